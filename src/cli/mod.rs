@@ -1,0 +1,5 @@
+//! Subcommand handlers: each turns parsed arguments into library calls and prints the result.
+
+pub mod homogenize;
+pub mod run;
+pub mod theory;

@@ -1,0 +1,1 @@
+//! Axisymmetric small-strain half-space with Lennard-Jones surface tractions (Greenwood / Attard–Parker class).

@@ -1,0 +1,1 @@
+//! Homogenisation (seed chapter 5.1): tangent-modulus law, hyperfoam and Prony fits, material cards.

@@ -1,0 +1,29 @@
+//! turf: mechanics of carbon-nanotube turfs, from the tubes to a nanoindentation test.
+//!
+//! The chain of models (see `docs/` and the project's DESIGN):
+//!
+//! - [`units`]: internal units (nm, nN, s) and the quantity-string parser.
+//! - [`laws`]: force–separation laws shared by every engine (LJ 9-3, 10-4, thermally shifted).
+//! - [`theory`]: closed forms — Hertz, JKR, DMT, Maugis–Dugdale, Tabor, micromechanics,
+//!   the quasi-rheological indentation law, thermal amplitude of tube ends.
+//! - [`numerics`]: solvers shared by the engines (sparse factorisation, ...).
+//! - [`halfspace`]: small-strain half-space with LJ tractions (fast adhesion curves).
+//! - [`continuum`]: axisymmetric finite-deformation FE indentation.
+//! - [`discrete`]: the turf as tubes.
+//! - [`homogenize`]: from a stress–strain curve to a material card.
+//! - [`scene`]: the scene file (TOML), its validation and the resolved plan.
+//! - [`pipeline`]: a scene's stages run in order.
+//! - [`report`]: CSV, JSON, plots and VTK, every file written atomically.
+#![warn(missing_docs)]
+
+pub mod continuum;
+pub mod discrete;
+pub mod halfspace;
+pub mod homogenize;
+pub mod laws;
+pub mod numerics;
+pub mod pipeline;
+pub mod report;
+pub mod scene;
+pub mod theory;
+pub mod units;

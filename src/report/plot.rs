@@ -1,0 +1,234 @@
+//! Line plots of curves, written as SVG and PNG with an embedded font (DejaVu Sans, see
+//! `assets/fonts/`), so no system font library is needed.
+
+use super::{write_atomic, ReportError};
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+static FONT: Once = Once::new();
+
+fn register_font() {
+    FONT.call_once(|| {
+        let bytes: &'static [u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+        // Registration only fails on a corrupt font, which the test below would catch.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, bytes);
+    });
+}
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    /// a line through the points
+    Line,
+    /// markers at the points
+    Points,
+    /// a dashed line (reference curves: theory)
+    Dashed,
+}
+
+/// One curve of a plot.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// legend text
+    pub label: String,
+    /// abscissae
+    pub x: Vec<f64>,
+    /// ordinates
+    pub y: Vec<f64>,
+    /// how it is drawn
+    pub style: Style,
+}
+
+impl Series {
+    /// A line series.
+    pub fn line(label: &str, x: Vec<f64>, y: Vec<f64>) -> Self {
+        Series {
+            label: label.into(),
+            x,
+            y,
+            style: Style::Line,
+        }
+    }
+    /// A marker series.
+    pub fn points(label: &str, x: Vec<f64>, y: Vec<f64>) -> Self {
+        Series {
+            label: label.into(),
+            x,
+            y,
+            style: Style::Points,
+        }
+    }
+    /// A dashed line series.
+    pub fn dashed(label: &str, x: Vec<f64>, y: Vec<f64>) -> Self {
+        Series {
+            label: label.into(),
+            x,
+            y,
+            style: Style::Dashed,
+        }
+    }
+}
+
+/// A plot: title, axis labels (with units) and curves.
+#[derive(Debug, Clone)]
+pub struct Plot {
+    /// title above the axes
+    pub title: String,
+    /// x-axis label, with unit
+    pub x_label: String,
+    /// y-axis label, with unit
+    pub y_label: String,
+    /// the curves
+    pub series: Vec<Series>,
+}
+
+impl Plot {
+    /// A plot with no curves yet.
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
+        Plot {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series: Vec::new(),
+        }
+    }
+
+    /// Add a curve.
+    pub fn with(mut self, s: Series) -> Self {
+        self.series.push(s);
+        self
+    }
+
+    /// Write `<stem>.svg` and `<stem>.png` in `dir`.
+    pub fn write(&self, dir: &Path, stem: &str) -> Result<(), ReportError> {
+        register_font();
+        let svg_path = dir.join(format!("{stem}.svg"));
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (800, 560)).into_drawing_area();
+            self.draw(&root, &svg_path)?;
+        }
+        write_atomic(&svg_path, svg.as_bytes())?;
+
+        // The bitmap backend encodes to a file itself: draw into a temporary name, then rename.
+        let png_path = dir.join(format!("{stem}.png"));
+        let tmp = dir.join(format!(".{stem}.tmp{}.png", std::process::id()));
+        {
+            let root = BitMapBackend::new(&tmp, (1000, 700)).into_drawing_area();
+            self.draw(&root, &png_path)?;
+        }
+        std::fs::rename(&tmp, &png_path).map_err(|source| ReportError::Io {
+            path: png_path.display().to_string(),
+            source,
+        })
+    }
+
+    fn bounds(&self) -> ((f64, f64), (f64, f64)) {
+        let mut xr = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut yr = (f64::INFINITY, f64::NEG_INFINITY);
+        for s in &self.series {
+            for (&x, &y) in s.x.iter().zip(&s.y) {
+                if x.is_finite() && y.is_finite() {
+                    xr = (xr.0.min(x), xr.1.max(x));
+                    yr = (yr.0.min(y), yr.1.max(y));
+                }
+            }
+        }
+        let pad = |r: (f64, f64)| {
+            if !r.0.is_finite() {
+                return (0.0, 1.0);
+            }
+            let span = (r.1 - r.0).max(1e-12 * r.0.abs().max(1.0));
+            (r.0 - 0.04 * span, r.1 + 0.04 * span)
+        };
+        (pad(xr), pad(yr))
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, plotters::coord::Shift>,
+        path: &Path,
+    ) -> Result<(), ReportError> {
+        let err = |e: String| ReportError::Plot {
+            path: path.display().to_string(),
+            reason: e,
+        };
+        root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
+        let ((x0, x1), (y0, y1)) = self.bounds();
+        let mut chart = ChartBuilder::on(root)
+            .caption(&self.title, ("sans-serif", 22))
+            .margin(16)
+            .x_label_area_size(48)
+            .y_label_area_size(72)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| err(e.to_string()))?;
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| err(e.to_string()))?;
+        for (i, s) in self.series.iter().enumerate() {
+            let color = Palette99::pick(i).to_rgba();
+            let pts: Vec<(f64, f64)> =
+                s.x.iter()
+                    .zip(&s.y)
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .map(|(&x, &y)| (x, y))
+                    .collect();
+            let anno = match s.style {
+                Style::Line => chart
+                    .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+                    .map_err(|e| err(e.to_string()))?,
+                Style::Dashed => chart
+                    .draw_series(DashedLineSeries::new(pts, 8, 5, color.stroke_width(2)))
+                    .map_err(|e| err(e.to_string()))?,
+                Style::Points => chart
+                    .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, color.filled())))
+                    .map_err(|e| err(e.to_string()))?,
+            };
+            anno.label(s.label.clone()).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        }
+        if self.series.iter().any(|s| !s.label.is_empty()) {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .draw()
+                .map_err(|e| err(e.to_string()))?;
+        }
+        root.present().map_err(|e| err(e.to_string()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_plot_writes_svg_with_text_and_a_png() {
+        let dir = std::env::temp_dir().join(format!("turf-plot-{}", std::process::id()));
+        let x: Vec<f64> = (0..50).map(|i| i as f64 / 10.0).collect();
+        let y: Vec<f64> = x.iter().map(|v| v.sin()).collect();
+        Plot::new("sine", "x (nm)", "y (nN)")
+            .with(Series::line("sin", x.clone(), y.clone()))
+            .with(Series::dashed(
+                "ref",
+                x.clone(),
+                y.iter().map(|v| 0.5 * v).collect(),
+            ))
+            .with(Series::points("pts", x, y))
+            .write(&dir, "sine")
+            .unwrap();
+        let svg = std::fs::read_to_string(dir.join("sine.svg")).unwrap();
+        assert!(svg.contains("sine") && svg.contains("x (nm)"));
+        let png = std::fs::read(dir.join("sine.png")).unwrap();
+        assert_eq!(&png[1..4], b"PNG");
+        std::fs::remove_dir_all(dir).ok();
+    }
+}
