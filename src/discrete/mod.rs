@@ -1,1 +1,4 @@
-//! The discrete turf (seed chapter 2.4): tubes as elastica chains, van der Waals contacts, broadphase, generation, drives, analysis.
+//! The discrete turf (seed chapter 2.4): tubes as elastica chains, van der Waals contacts,
+//! broadphase, generation, drives, analysis.
+
+pub mod energy;
