@@ -15,7 +15,7 @@ use turf::report::plot::{Plot, Series};
 use turf::theory::indentation_law::{Rheology, Segment};
 use turf::theory::micromech::Segments;
 use turf::theory::thermal::Cantilever;
-use turf::theory::{self, dmt, hertz, jkr, maugis, positive, tabor, Control, Model, Sphere};
+use turf::theory::{self, dmt, hertz, jkr, positive, tabor, Control, Model, Sphere};
 use turf::units::{parse_quantity, Dimension};
 
 /// Arguments of `turf theory`.
