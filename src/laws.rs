@@ -16,6 +16,18 @@
 //! h; a converged solution never sits there in practice (engines report the minimum gap).
 //!
 //! Units: γ in J/m² (= nN/nm), z₀ and h in nm, p in GPa, φ in J/m², k in GPa/nm.
+//!
+//! **Thermally shifted law** (seed §5.2, Fig 5.3): [`ThermallyShifted`] stretches the attractive
+//! branch of a Lennard-Jones law so that the intercept of the tangent at the tail's inflection
+//! point moves outward by the thermal amplitude u of the tube ends (seed eq. 5.9, see
+//! `theory::thermal`), keeping γ exactly. It is a reparametrisation of the gap,
+//! φ_s(h) = φ(H(h)), with H(h) = h up to z₀ (the repulsive core and the equilibrium are
+//! unchanged) and H' falling smoothly (C², a cubic smoothstep over z₀ ≤ h ≤ h_m) from 1 to 1/b
+//! beyond. Since φ_s(z₀) = φ(z₀) = −γ and φ_s(∞) = 0 for every monotone H, the work of separation
+//! is γ exactly; p_s = p(H)H' and k_s = k(H)H'² + p(H)H'' are exact derivatives and continuous.
+//! The stretch b is fixed in closed form by the intercept shift (docs/theory.md).
+//!
+//! [`SurfaceLaw`] is the one type engines take: either law behind the same methods.
 
 use serde::{Deserialize, Serialize};
 
@@ -118,6 +130,247 @@ impl LennardJones {
     }
 }
 
+impl LennardJones {
+    /// Gap of the inflection point of the attractive tail of p(h) (d²p/dh² = 0 beyond the
+    /// largest tension), nm: h_i = z₀ (n(n+1)/(m(m+1)))^(1/(n−m)).
+    pub fn gap_at_tail_inflection(&self) -> f64 {
+        let (n, m) = self.kind.exponents();
+        let ratio = (n * (n + 1)) as f64 / (m * (m + 1)) as f64;
+        self.z0 * ratio.powf(1.0 / (n - m) as f64)
+    }
+
+    /// Where the tangent to p(h) at the tail's inflection point crosses p = 0, nm: the range of
+    /// the attraction that the thermal shift moves outward by u (seed Fig 5.3, "α_int").
+    pub fn tangent_intercept(&self) -> f64 {
+        let hi = self.gap_at_tail_inflection();
+        let (_, p, k) = self.raw(hi);
+        hi - p / k
+    }
+}
+
+/// What a [`ThermallyShifted`] law is built from (its serialised form).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ThermalShiftSpec {
+    /// the Lennard-Jones law being shifted
+    pub base: LennardJones,
+    /// thermal amplitude u of the tube ends (seed eq. 5.9), nm; u ≥ 0
+    pub u: f64,
+}
+
+/// Why a thermally shifted law cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LawError {
+    /// γ or z₀ not positive and finite
+    #[error("the base law needs γ > 0 and z₀ > 0 (finite), got γ = {gamma}, z₀ = {z0}")]
+    BadBase {
+        /// γ, J/m²
+        gamma: f64,
+        /// z₀, nm
+        z0: f64,
+    },
+    /// u negative or not finite
+    #[error("the thermal amplitude u must be ≥ 0 and finite, got {0} nm")]
+    BadShift(f64),
+}
+
+/// A Lennard-Jones law whose attractive branch is stretched by the thermal vibration of the
+/// tube ends (seed §5.2): same γ, same z₀ and core, tangent intercept moved out by u.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "ThermalShiftSpec", into = "ThermalShiftSpec")]
+pub struct ThermallyShifted {
+    base: LennardJones,
+    u: f64,
+    /// width of the smoothstep transition h_m − z₀, nm
+    width: f64,
+    /// far-field stretch factor b ≥ 1 (H' → 1/b)
+    stretch: f64,
+}
+
+impl TryFrom<ThermalShiftSpec> for ThermallyShifted {
+    type Error = LawError;
+    fn try_from(s: ThermalShiftSpec) -> Result<Self, LawError> {
+        ThermallyShifted::new(s.base, s.u)
+    }
+}
+
+impl From<ThermallyShifted> for ThermalShiftSpec {
+    fn from(t: ThermallyShifted) -> Self {
+        ThermalShiftSpec {
+            base: t.base,
+            u: t.u,
+        }
+    }
+}
+
+impl ThermallyShifted {
+    /// Shift `base` by the thermal amplitude `u` (nm). The stretch is
+    /// b = 1 + u / (h_int − z₀ − w/2) with w = h_m − z₀ (docs/theory.md).
+    pub fn new(base: LennardJones, u: f64) -> Result<Self, LawError> {
+        let ok = |x: f64| x.is_finite() && x > 0.0;
+        if !ok(base.gamma) || !ok(base.z0) {
+            return Err(LawError::BadBase {
+                gamma: base.gamma,
+                z0: base.z0,
+            });
+        }
+        if !(u.is_finite() && u >= 0.0) {
+            return Err(LawError::BadShift(u));
+        }
+        let width = base.gap_at_max_tension() - base.z0;
+        let stretch = 1.0 + u / (base.tangent_intercept() - base.z0 - 0.5 * width);
+        Ok(ThermallyShifted {
+            base,
+            u,
+            width,
+            stretch,
+        })
+    }
+
+    /// The unshifted law.
+    pub fn base(&self) -> &LennardJones {
+        &self.base
+    }
+
+    /// The thermal amplitude u, nm.
+    pub fn shift(&self) -> f64 {
+        self.u
+    }
+
+    /// The far-field stretch factor b (the tail's tension is divided by b, its range times b).
+    pub fn stretch(&self) -> f64 {
+        self.stretch
+    }
+
+    /// The gap map H(h) and its first two derivatives (H, H', H'').
+    fn gap_map(&self, h: f64) -> (f64, f64, f64) {
+        let z0 = self.base.z0;
+        if h <= z0 {
+            return (h, 1.0, 0.0);
+        }
+        let (w, b) = (self.width, self.stretch);
+        let x = h - z0;
+        let excess = 1.0 - 1.0 / b;
+        if x >= w {
+            return (z0 + 0.5 * excess * w + x / b, 1.0 / b, 0.0);
+        }
+        let t = x / w;
+        let big_h = z0 + x / b + excess * w * (t - t.powi(3) + 0.5 * t.powi(4));
+        let dh = 1.0 / b + excess * (1.0 - 3.0 * t * t + 2.0 * t.powi(3));
+        let ddh = excess * 6.0 * (t * t - t) / w;
+        (big_h, dh, ddh)
+    }
+
+    /// Energy per unit area φ(h) (J/m²), pressure p(h) (GPa) and stiffness dp/dh (GPa/nm).
+    pub fn eval(&self, h: f64) -> (f64, f64, f64) {
+        let (big_h, dh, ddh) = self.gap_map(h);
+        let (phi, p, k) = self.base.eval(big_h);
+        (phi, p * dh, k * dh * dh + p * ddh)
+    }
+
+    /// Gap of the tail's inflection point of p_s, nm (in the region where H is affine).
+    pub fn gap_at_tail_inflection(&self) -> f64 {
+        let z0 = self.base.z0;
+        let c = 0.5 * (1.0 - 1.0 / self.stretch) * self.width;
+        z0 + self.stretch * (self.base.gap_at_tail_inflection() - z0 - c)
+    }
+
+    /// Gap of the largest tension, nm: the zero of k_s between z₀ and the tail's inflection,
+    /// found by bisection (k_s < 0 at z₀, > 0 at the inflection).
+    pub fn gap_at_max_tension(&self) -> f64 {
+        let (mut lo, mut hi) = (self.base.z0, self.gap_at_tail_inflection());
+        // 200 halvings reach the f64 resolution of any bracket
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if self.eval(mid).2 < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+}
+
+/// A force–separation law as every engine takes it: plain Lennard-Jones or thermally shifted.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case")]
+pub enum SurfaceLaw {
+    /// LJ 9-3 or 10-4 (seed eqs. 4.1, 5.10)
+    LennardJones(LennardJones),
+    /// the thermally shifted law of seed §5.2
+    ThermallyShifted(ThermallyShifted),
+}
+
+impl From<LennardJones> for SurfaceLaw {
+    fn from(l: LennardJones) -> Self {
+        SurfaceLaw::LennardJones(l)
+    }
+}
+
+impl From<ThermallyShifted> for SurfaceLaw {
+    fn from(l: ThermallyShifted) -> Self {
+        SurfaceLaw::ThermallyShifted(l)
+    }
+}
+
+impl SurfaceLaw {
+    /// Energy per unit area φ(h) (J/m²), pressure p(h) = −dφ/dh (GPa), stiffness dp/dh (GPa/nm).
+    pub fn eval(&self, h: f64) -> (f64, f64, f64) {
+        match self {
+            SurfaceLaw::LennardJones(l) => l.eval(h),
+            SurfaceLaw::ThermallyShifted(l) => l.eval(h),
+        }
+    }
+
+    /// Energy per unit area φ(h), J/m².
+    pub fn energy(&self, h: f64) -> f64 {
+        self.eval(h).0
+    }
+
+    /// Pressure p(h), GPa, positive repulsive.
+    pub fn pressure(&self, h: f64) -> f64 {
+        self.eval(h).1
+    }
+
+    /// Stiffness dp/dh, GPa/nm.
+    pub fn stiffness(&self, h: f64) -> f64 {
+        self.eval(h).2
+    }
+
+    /// Gap of the largest tension, nm.
+    pub fn gap_at_max_tension(&self) -> f64 {
+        match self {
+            SurfaceLaw::LennardJones(l) => l.gap_at_max_tension(),
+            SurfaceLaw::ThermallyShifted(l) => l.gap_at_max_tension(),
+        }
+    }
+
+    /// The largest tensile pressure σ₀ = −min p (positive), GPa.
+    pub fn max_tension(&self) -> f64 {
+        -self.pressure(self.gap_at_max_tension())
+    }
+
+    /// Work of adhesion γ = −φ(z₀), J/m².
+    pub fn gamma(&self) -> f64 {
+        self.base().gamma
+    }
+
+    /// Equilibrium separation z₀ (p(z₀) = 0), nm.
+    pub fn z0(&self) -> f64 {
+        self.base().z0
+    }
+
+    fn base(&self) -> &LennardJones {
+        match self {
+            SurfaceLaw::LennardJones(l) => l,
+            SurfaceLaw::ThermallyShifted(l) => l.base(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -193,5 +446,152 @@ mod tests {
         let want = 16.0 * 0.3 / (9.0 * 3f64.sqrt() * 0.4);
         assert!((l.max_tension() - want).abs() < 1e-12 * want);
         assert!(l.stiffness(l.gap_at_max_tension()).abs() < 1e-9 * l.prefactor() / l.z0);
+    }
+
+    /// ∫_{z0}^{∞} −p dh by the midpoint rule in s = z₀/h (h = z₀/s), n cells.
+    fn work_of_separation(law: &SurfaceLaw, n: usize) -> f64 {
+        let z0 = law.z0();
+        (0..n)
+            .map(|i| {
+                let s = (i as f64 + 0.5) / n as f64;
+                -law.pressure(z0 / s) * z0 / (s * s) / n as f64
+            })
+            .sum()
+    }
+
+    fn shifted_laws() -> Vec<SurfaceLaw> {
+        laws()
+            .into_iter()
+            .flat_map(|l| {
+                [0.0, 0.3, 4.6]
+                    .into_iter()
+                    .map(move |u| ThermallyShifted::new(l, u).unwrap().into())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn shifted_law_keeps_gamma_by_quadrature() {
+        for law in shifted_laws() {
+            // the stretched tail reaches b·z₀/s: 400k midpoint cells in s resolve it to ~1e-9
+            let w = work_of_separation(&law, 400_000);
+            assert!((w - law.gamma()).abs() < 1e-6 * law.gamma(), "{w} {law:?}");
+            assert!((law.energy(law.z0()) + law.gamma()).abs() < 1e-14);
+            assert!(law.pressure(law.z0()).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn shifted_law_moves_the_tangent_intercept_by_exactly_u() {
+        for base in laws() {
+            for u in [0.3, 4.6] {
+                let t = ThermallyShifted::new(base, u).unwrap();
+                let law = SurfaceLaw::from(t);
+                // find the tail's inflection independently: dk/dh = 0 by central differences,
+                // bisected between the largest tension and far out
+                let dk = |h: f64| {
+                    let e = 1e-6 * h;
+                    (law.stiffness(h + e) - law.stiffness(h - e)) / (2.0 * e)
+                };
+                let (mut lo, mut hi) =
+                    (law.gap_at_max_tension() * 1.01, 100.0 * base.z0 + 50.0 * u);
+                assert!(dk(lo) > 0.0 && dk(hi) < 0.0);
+                for _ in 0..100 {
+                    let mid = 0.5 * (lo + hi);
+                    if dk(mid) > 0.0 {
+                        lo = mid
+                    } else {
+                        hi = mid
+                    }
+                }
+                let (_, p, k) = law.eval(lo);
+                let intercept = lo - p / k;
+                let want = base.tangent_intercept() + u;
+                // FD of k with step 1e-6 h locates the inflection to ~1e-7 relative
+                assert!(
+                    (intercept - want).abs() < 1e-6 * want,
+                    "{intercept} vs {want}"
+                );
+                assert!((lo - t.gap_at_tail_inflection()).abs() < 1e-5 * lo);
+            }
+        }
+    }
+
+    #[test]
+    fn shifted_law_derivatives_are_exact_and_continuous() {
+        for law in shifted_laws() {
+            let z0 = law.z0();
+            let hm = match law {
+                SurfaceLaw::ThermallyShifted(t) => t.base().gap_at_max_tension(),
+                SurfaceLaw::LennardJones(l) => l.gap_at_max_tension(),
+            };
+            for &h in &[
+                0.3 * z0,
+                0.9 * z0,
+                0.999 * z0,
+                1.001 * z0,
+                1.05 * z0,
+                0.5 * (z0 + hm),
+                0.999 * hm,
+                1.001 * hm,
+                2.0 * hm,
+                10.0 * hm,
+                40.0 * z0,
+            ] {
+                let e = 1e-6 * z0;
+                let p_fd = -(law.energy(h + e) - law.energy(h - e)) / (2.0 * e);
+                let k_fd = (law.pressure(h + e) - law.pressure(h - e)) / (2.0 * e);
+                let (_, p, k) = law.eval(h);
+                let scale = law.gamma() / z0;
+                assert!(
+                    (p - p_fd).abs() <= FD_TOL * p.abs().max(scale),
+                    "p at {h}: {p} {p_fd}"
+                );
+                assert!(
+                    (k - k_fd).abs() <= FD_TOL * k.abs().max(scale / z0),
+                    "k at {h}: {k} {k_fd}"
+                );
+            }
+            // continuity of p and k across the joints z₀ and h_m
+            for joint in [z0, hm] {
+                let e = 1e-9 * z0;
+                let (a, b) = (law.eval(joint - e), law.eval(joint + e));
+                assert!((a.1 - b.1).abs() < 1e-6 * law.gamma() / z0);
+                assert!((a.2 - b.2).abs() < 1e-5 * law.gamma() / (z0 * z0));
+            }
+        }
+    }
+
+    #[test]
+    fn zero_shift_is_the_base_law_and_the_shift_lowers_the_tension() {
+        for base in laws() {
+            let t = ThermallyShifted::new(base, 0.0).unwrap();
+            for &x in &[0.4, 1.0, 1.1, 1.3, 3.0] {
+                let (a, b) = (t.eval(x * base.z0), base.eval(x * base.z0));
+                assert!((a.0 - b.0).abs() < 1e-14 && (a.1 - b.1).abs() < 1e-12);
+            }
+            let law = SurfaceLaw::from(base);
+            assert!((law.max_tension() - base.max_tension()).abs() < 1e-12);
+            let shifted = SurfaceLaw::from(ThermallyShifted::new(base, 4.6).unwrap());
+            assert!(shifted.max_tension() < 0.2 * base.max_tension());
+            assert!(shifted.max_tension() > 0.0);
+        }
+        assert!(ThermallyShifted::new(laws()[0], -1.0).is_err());
+        assert!(ThermallyShifted::new(LennardJones::new(LjKind::Lj93, 0.0, 1.0), 1.0).is_err());
+    }
+
+    #[test]
+    fn surface_law_round_trips_through_json() {
+        for law in shifted_laws()
+            .into_iter()
+            .chain(laws().map(SurfaceLaw::from))
+        {
+            let text = serde_json::to_string(&law).unwrap();
+            let back: SurfaceLaw = serde_json::from_str(&text).unwrap();
+            assert_eq!(back, law, "{text}");
+        }
+        let bad =
+            r#"{"law":"thermally_shifted","base":{"kind":"lj93","gamma":0.4,"z0":0.3},"u":-2}"#;
+        assert!(serde_json::from_str::<SurfaceLaw>(bad).is_err());
     }
 }

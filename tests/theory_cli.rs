@@ -1,0 +1,143 @@
+//! `turf theory` run as a user would: JSON out, units in, clear errors.
+
+use std::process::Command;
+
+fn turf(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_turf"))
+        .args(args)
+        .output()
+        .expect("the turf binary runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let (ok, out, err) = turf(args);
+    assert!(ok, "{args:?} failed: {err}");
+    serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"))
+}
+
+#[test]
+fn pulloff_json() {
+    let v = json(&["theory", "pulloff", "--model", "jkr", "--json"]);
+    assert_eq!(v["pull_off_normalized"], -1.5);
+    assert_eq!(v["model"], "jkr");
+    let v = json(&[
+        "theory",
+        "pulloff",
+        "--model",
+        "jkr",
+        "--control",
+        "displacement",
+        "--json",
+    ]);
+    assert!((v["pull_off_normalized"].as_f64().unwrap() + 5.0 / 6.0).abs() < 1e-12);
+    let v = json(&[
+        "theory", "pulloff", "--model", "maugis", "--lambda", "1000", "--json",
+    ]);
+    assert!((v["pull_off_normalized"].as_f64().unwrap() + 1.5).abs() < 1e-2);
+    let v = json(&[
+        "theory", "pulloff", "--model", "maugis", "--mu", "1", "--json",
+    ]);
+    // --mu converts through the LJ 9-3 law: λ = 1.157 μ
+    assert!((v["lambda"].as_f64().unwrap() - 1.1573).abs() < 1e-3);
+}
+
+#[test]
+fn tabor_json_with_units() {
+    let v = json(&[
+        "theory",
+        "tabor",
+        "--radius",
+        "1.8 um",
+        "--modulus",
+        "1 GPa",
+        "--gamma",
+        "0.46 J/m^2",
+        "--z0",
+        "0.34 nm",
+        "--json",
+    ]);
+    // μ = (Rγ²/(E*²z₀³))^(1/3) = (1800·0.2116/0.039304)^(1/3)
+    let mu = (1800.0f64 * 0.46 * 0.46 / 0.34f64.powi(3)).cbrt();
+    assert!((v["mu"].as_f64().unwrap() - mu).abs() < 1e-9 * mu);
+    assert!((v["lambda"].as_f64().unwrap() / mu - 1.1573).abs() < 1e-3);
+}
+
+#[test]
+fn thermal_json_for_the_seed_tube() {
+    let v = json(&[
+        "theory",
+        "thermal",
+        "--length",
+        "7 um",
+        "--ro",
+        "20 nm",
+        "--ri",
+        "17.3 nm",
+        "--youngs",
+        "0.4 TPa",
+        "--temperature",
+        "300 K",
+        "--json",
+    ]);
+    assert!((v["u_rms_nm"].as_f64().unwrap() - 4.626).abs() < 0.005);
+}
+
+#[test]
+fn curve_writes_csv_and_plots() {
+    let dir = std::env::temp_dir().join(format!("turf-theory-cli-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let v = json(&[
+        "theory",
+        "curve",
+        "--model",
+        "maugis",
+        "--radius",
+        "1.8 um",
+        "--modulus",
+        "1 GPa",
+        "--gamma",
+        "0.46 J/m^2",
+        "--lambda",
+        "1",
+        "--points",
+        "30",
+        "--out",
+        d,
+        "--json",
+    ]);
+    assert_eq!(v["points"], 30);
+    let csv = std::fs::read_to_string(dir.join("curve.csv")).unwrap();
+    assert!(csv.starts_with("depth_nm,load_nN,contact_radius_nm,a_bar,p_bar,delta_bar"));
+    assert_eq!(csv.lines().count(), 31);
+    assert!(dir.join("plots/curve.svg").exists() && dir.join("plots/curve.png").exists());
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn bad_input_gives_a_clear_message() {
+    let (ok, _, err) = turf(&[
+        "theory",
+        "tabor",
+        "--radius",
+        "1.8 GPa",
+        "--modulus",
+        "1 GPa",
+        "--gamma",
+        "0.46 J/m^2",
+        "--z0",
+        "0.34 nm",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("--radius") && err.contains("length"), "{err}");
+    let (ok, _, err) = turf(&["theory", "pulloff", "--model", "maugis", "--lambda=-2"]);
+    assert!(!ok);
+    assert!(err.contains("λ must be positive"), "{err}");
+    assert!(!err.contains("panicked"));
+    let (ok, _, err) = turf(&["theory", "pulloff", "--model", "maugis", "--lambda", "abc"]);
+    assert!(!ok && err.contains("abc"), "{err}");
+}
