@@ -3,12 +3,14 @@
 //! and pull-off (the minimum load, where dF̄/dH(0) = 0).
 //!
 //! Tracing starts at a central gap beyond jump-in from the rigid profile and steps H(0)
-//! downwards with a tangent predictor; the step grows after easy solves, shrinks after hard
+//! downwards with a tangent predictor (the corrector prescribes D instead of H(0) where
+//! |dD/dH(0)| > 1: on the contact branch H(0) barely moves and the H(0)-bordered system is
+//! badly conditioned); the step grows after easy solves, shrinks after hard
 //! ones, keeps the predicted change of every nodal gap below `max_gap_change`, and is cut back
 //! on failure. A sign change of a slope between two points is refined by the Illinois (modified
 //! regula falsi) method on the slope, each evaluation a Newton solve from the nearer end.
 
-use super::solve::{State, System, Tangent};
+use super::solve::{Control, State, System, Tangent};
 use super::{Cost, HalfspaceError, HalfspaceParams, Problem, Scales, Traction};
 use std::time::Instant;
 
@@ -69,15 +71,19 @@ pub(crate) struct Solved {
     pub(crate) point: CurvePoint,
 }
 
-/// Solve at `h0` from a neighbouring solved point, with the tangent predictor.
+/// Solve under `control` from a neighbouring solved point, with the tangent predictor.
 pub(crate) fn solve_from<T: Traction>(
     sys: &System<'_, T>,
     from: &Solved,
-    h0: f64,
+    control: Control,
     params: &HalfspaceParams,
     cost: &mut Cost,
 ) -> Result<Solved, HalfspaceError> {
-    let dh = h0 - from.h0;
+    // path parameter change Δ(H(0)) implied by the target
+    let dh = match control {
+        Control::CentralGap(h0) => h0 - from.h0,
+        Control::Approach(d) => (d - from.state.approach) / from.tangent.approach,
+    };
     let guess = State {
         gaps: from
             .state
@@ -88,10 +94,24 @@ pub(crate) fn solve_from<T: Traction>(
             .collect(),
         approach: from.state.approach + dh * from.tangent.approach,
     };
-    let (state, iterations) = sys.solve(h0, guess, params)?;
+    let (state, iterations) = sys.solve(control, guess.clone(), params)?;
     cost.newton_iterations += iterations;
     cost.solves += 1;
-    finish(sys, h0, state)
+    // a corrector that lands far from the predictor has jumped to another branch
+    let moved = state
+        .gaps
+        .iter()
+        .zip(&guess.gaps)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    if moved > params.max_gap_change {
+        return Err(HalfspaceError::NoConvergence {
+            central_gap: state.gaps[0],
+            residual: moved,
+            iterations,
+            step: dh,
+        });
+    }
+    finish(sys, state.gaps[0], state)
 }
 
 /// Tangent and curve point of a converged state.
@@ -117,13 +137,60 @@ pub(crate) fn finish<T: Traction>(
     })
 }
 
-/// Which slope vanishes at the point sought.
+/// One continuation step of at most `step` in H(0) in `direction` (±1) from `from`, limited so
+/// that the predicted change of every gap stays below `max_gap_change`, halved on failure down
+/// to `min_step`. Returns the new point and the step used.
+pub(crate) fn step_from<T: Traction>(
+    sys: &System<'_, T>,
+    from: &Solved,
+    direction: f64,
+    step: f64,
+    params: &HalfspaceParams,
+    cost: &mut Cost,
+) -> Result<(Solved, f64), HalfspaceError> {
+    let largest = from.tangent.gaps.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+    let mut dh = step.min(params.max_gap_change / largest.max(f64::MIN_POSITIVE));
+    loop {
+        let h = from.h0 + direction * dh;
+        // prescribe whichever of H(0) and D moves faster along the path: H(0) is regular
+        // through the turning points of D, D is better conditioned on the contact branch,
+        // where H(0) hardly moves
+        let control = if from.tangent.approach.abs() > 1.0 {
+            Control::Approach(from.state.approach + from.tangent.approach * (h - from.h0))
+        } else {
+            Control::CentralGap(h)
+        };
+        match solve_from(sys, from, control, params, cost) {
+            Ok(s) => return Ok((s, dh)),
+            Err(HalfspaceError::NoConvergence {
+                residual,
+                iterations,
+                ..
+            }) => {
+                dh *= 0.5;
+                if dh < params.min_step {
+                    return Err(HalfspaceError::NoConvergence {
+                        central_gap: h,
+                        residual,
+                        iterations,
+                        step: dh,
+                    });
+                }
+            }
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+/// Which slope vanishes at the point sought, and along which path parameter it is sought.
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Slope {
-    /// dD/dH(0): jump points
+    /// dD/dH(0) against H(0): jump points
     Approach,
-    /// dF̄/dH(0): pull-off
+    /// dF̄/dH(0) against H(0): pull-off on the trace
     Load,
+    /// dF̄/dD against D: pull-off on a stable branch (well scaled where H(0) barely moves)
+    LoadPerApproach,
 }
 
 impl Slope {
@@ -131,11 +198,33 @@ impl Slope {
         match self {
             Slope::Approach => p.slope_approach,
             Slope::Load => p.slope_load,
+            Slope::LoadPerApproach => p.slope_load / p.slope_approach,
+        }
+    }
+
+    /// The slope at a solved point.
+    pub(crate) fn value(self, s: &Solved) -> f64 {
+        self.of(&s.point)
+    }
+
+    /// The abscissa of the search.
+    fn abscissa(self, s: &Solved) -> f64 {
+        match self {
+            Slope::LoadPerApproach => s.state.approach,
+            _ => s.h0,
+        }
+    }
+
+    fn control(self, x: f64) -> Control {
+        match self {
+            Slope::LoadPerApproach => Control::Approach(x),
+            _ => Control::CentralGap(x),
         }
     }
 }
 
-/// Locate the zero of a slope between two solved points where it changes sign (Illinois).
+/// Locate the zero of a slope between two solved points where it changes sign (Illinois;
+/// bisection when Newton cannot reach the secant point; the better end if neither works).
 pub(crate) fn locate<T: Traction>(
     sys: &System<'_, T>,
     a: &Solved,
@@ -149,16 +238,25 @@ pub(crate) fn locate<T: Traction>(
     let mut side = 0i8;
     const MAX_SECANT_STEPS: usize = 60;
     for _ in 0..MAX_SECANT_STEPS {
-        if (a.h0 - b.h0).abs() < params.locate_tolerance {
+        let (xa, xb) = (slope.abscissa(&a), slope.abscissa(&b));
+        if (xa - xb).abs() < params.locate_tolerance * xa.abs().max(1.0) {
             break;
         }
-        let h = (a.h0 * fb - b.h0 * fa) / (fb - fa);
-        let from = if (h - a.h0).abs() < (h - b.h0).abs() {
-            &a
-        } else {
-            &b
-        };
-        let c = solve_from(sys, from, h, params, cost)?;
+        // the secant point, or the midpoint if Newton cannot reach it
+        let secant = (xa * fb - xb * fa) / (fb - fa);
+        let mut attempt = None;
+        for x in [secant, 0.5 * (xa + xb)] {
+            let from = if (x - xa).abs() < (x - xb).abs() { &a } else { &b };
+            match solve_from(sys, from, slope.control(x), params, cost) {
+                Ok(c) => {
+                    attempt = Some(c);
+                    break;
+                }
+                Err(HalfspaceError::NoConvergence { .. }) => continue,
+                Err(e) => return Err(e),
+            }
+        }
+        let Some(c) = attempt else { break };
         let fc = slope.of(&c.point);
         if fc == 0.0 {
             return Ok(c);
@@ -211,7 +309,8 @@ pub(crate) fn trace_on<T: Traction>(
     cost: &mut Cost,
 ) -> Result<Trace, HalfspaceError> {
     let h_start = start_gap(mu, params);
-    let (state, iterations) = sys.solve(h_start, sys.rigid(h_start), params)?;
+    let (state, iterations) =
+        sys.solve(Control::CentralGap(h_start), sys.rigid(h_start), params)?;
     cost.newton_iterations += iterations;
     cost.solves += 1;
     let mut prev = finish(sys, h_start, state)?;
@@ -221,29 +320,8 @@ pub(crate) fn trace_on<T: Traction>(
     let mut jump_out: Option<Solved> = None;
     let mut pull_off: Option<Solved> = None;
     loop {
-        let largest = prev.tangent.gaps.iter().fold(0.0f64, |m, t| m.max(t.abs()));
-        let dh = step.min(params.max_gap_change / largest.max(1e-300));
-        let h = prev.h0 - dh;
-        let next = match solve_from(sys, &prev, h, params, cost) {
-            Ok(s) => s,
-            Err(HalfspaceError::NoConvergence {
-                residual,
-                iterations,
-                ..
-            }) => {
-                step = 0.5 * dh;
-                if step < params.min_step {
-                    return Err(HalfspaceError::NoConvergence {
-                        central_gap: h,
-                        residual,
-                        iterations,
-                        step: dh,
-                    });
-                }
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
+        let (next, used) = step_from(sys, &prev, -1.0, step, params, cost)?;
+        step = used;
         // turning points of D: − → + is jump-in (D maximum), + → − after it is jump-out
         let (sa0, sa1) = (prev.point.slope_approach, next.point.slope_approach);
         if sa0 < 0.0 && sa1 >= 0.0 && jump_in.is_none() {

@@ -15,8 +15,14 @@ const AGM_MAX_STEPS: usize = 40;
 
 /// (K(k), E(k)) for a modulus 0 ≤ k < 1.
 pub fn elliptic_ke(k: f64) -> (f64, f64) {
+    elliptic_ke_complementary(k, (1.0 - k * k).max(0.0).sqrt())
+}
+
+/// (K(k), E(k)) given both k and k' = √(1 − k²): pass k' computed without cancellation when k
+/// is close to 1 (K depends on ln(4/k') there).
+pub fn elliptic_ke_complementary(k: f64, k_prime: f64) -> (f64, f64) {
     let mut a = 1.0;
-    let mut b = (1.0 - k * k).max(0.0).sqrt();
+    let mut b = k_prime;
     let mut c = k;
     let mut sum = 0.5 * c * c; // 2⁻¹ c₀²
     let mut pow2 = 0.5;

@@ -14,7 +14,7 @@
 //! In the scaled units of [`super`] (ρ = r/√(Rz₀), pressure in γ/z₀, displacement in z₀) the
 //! coefficient carries the factor (4/π) μ^{3/2}, μ the Tabor parameter.
 
-use super::elliptic::elliptic_ke;
+use super::elliptic::{elliptic_ke, elliptic_ke_complementary};
 use super::grid::Grid;
 use std::f64::consts::PI;
 
@@ -28,8 +28,9 @@ pub fn disc_displacement(r: f64, a: f64) -> f64 {
         a * elliptic_ke(r / a).1
     } else {
         let k = a / r;
-        let (kk, ee) = elliptic_ke(k);
-        r * (ee - (1.0 - k * k) * kk)
+        let kp2 = (r - a) * (r + a) / (r * r); // 1 − k² without cancellation
+        let (kk, ee) = elliptic_ke_complementary(k, kp2.sqrt());
+        r * (ee - kp2 * kk)
     }
 }
 
@@ -91,7 +92,8 @@ mod tests {
         let (b0, b1, r) = (1.0, 1.5, 1.2);
         let f = |s: f64| {
             let k = 2.0 * (r * s).sqrt() / (r + s);
-            s / (r + s) * elliptic_ke(k.min(1.0 - 1e-17)).0
+            let kp = (r - s).abs() / (r + s);
+            s / (r + s) * elliptic_ke_complementary(k, kp).0
         };
         // ∫_{b0}^{r} and ∫_{r}^{b1} with s = r ∓ t², ds = 2t dt (integrand ~ t ln t → smooth)
         let n = 200_000;

@@ -13,9 +13,9 @@
 //! |F₃ − F₂|/(r^p − 1); when the sequence is not monotone or p is outside [1/2, 4] the estimate
 //! falls back to |F₃ − F₂| (conservative). The tail estimate is added to the error.
 
-use super::curve::{finish, locate, trace_on, Slope, Solved};
+use super::curve::{finish, locate, solve_from, trace_on, Slope, Solved};
 use super::grid::GridSpec;
-use super::solve::System;
+use super::solve::{Control, System};
 use super::{Cost, HalfspaceError, HalfspaceParams, Problem, Scales, Traction};
 use std::time::Instant;
 
@@ -103,7 +103,7 @@ fn pull_off_grid(mu: f64, contact_radius: f64, outer: f64, params: &HalfspacePar
     let half_width = 2.0 * ell + 0.1 * contact_radius;
     GridSpec {
         fine_spacing: ell / params.cells_per_zone,
-        zone_lo: (contact_radius - half_width).max(0.0),
+        zone_lo: 0.0,
         zone_hi: contact_radius + half_width,
         growth: params.growth,
         outer,
@@ -122,23 +122,36 @@ fn pull_off_on<'a, T: Traction>(
     let sys = System::new(problem, spec.build());
     cost.max_nodes = cost.max_nodes.max(sys.len());
     let guess = sys.transfer(from_sys, &from.state);
-    let (state, iterations) = sys.solve(from.h0, guess, params)?;
+    let (state, iterations) = sys.solve(Control::Approach(from.state.approach), guess, params)?;
     cost.newton_iterations += iterations;
     cost.solves += 1;
-    let centre = finish(&sys, from.h0, state)?;
+    let centre = finish(&sys, state.gaps[0], state)?;
     // bracket the zero of dF̄/dH(0) on this grid by stepping away from the old location
-    let mut step = 1e-3 * from.h0.max(1.0);
-    let sign = if centre.point.slope_load > 0.0 { -1.0 } else { 1.0 };
-    let mut near = centre.clone();
-    const MAX_BRACKET_STEPS: usize = 30;
+    // walk in the approach D (the pull-off lies on the stable branch, where D is a regular
+    // parameter) until dF̄/dD changes sign; steps keep the predicted gap change small
+    let per_d = |s: &Solved| {
+        s.tangent.gaps.iter().fold(0.0f64, |m, t| m.max(t.abs())) / s.tangent.approach.abs()
+    };
+    let sign = if Slope::LoadPerApproach.value(&centre) > 0.0 { -1.0 } else { 1.0 };
+    let mut near = centre;
+    const MAX_BRACKET_STEPS: usize = 40;
+    let mut step = 0.1 * params.max_gap_change / per_d(&near).max(f64::MIN_POSITIVE);
     for _ in 0..MAX_BRACKET_STEPS {
-        let far = super::curve::solve_from(&sys, &near, near.h0 + sign * step, params, cost)?;
-        if (far.point.slope_load > 0.0) != (near.point.slope_load > 0.0) {
-            let m = locate(&sys, &near, &far, Slope::Load, params, cost)?;
+        let d = near.state.approach + sign * step;
+        let far = match solve_from(&sys, &near, Control::Approach(d), params, cost) {
+            Ok(far) => far,
+            Err(HalfspaceError::NoConvergence { .. }) if step > params.min_step => {
+                step *= 0.5;
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        if (Slope::LoadPerApproach.value(&far) > 0.0) != (Slope::LoadPerApproach.value(&near) > 0.0) {
+            let m = locate(&sys, &near, &far, Slope::LoadPerApproach, params, cost)?;
             return Ok((sys, m));
         }
         near = far;
-        step *= 2.0;
+        step = (2.0 * step).min(params.max_gap_change / per_d(&near).max(f64::MIN_POSITIVE));
     }
     Err(HalfspaceError::NoPullOff {
         start: from.h0,
@@ -171,7 +184,17 @@ pub fn pull_off<T: Traction>(
     for level in 0..3 {
         let t0 = Instant::now();
         let spec = base.refined(params.refinement_ratio.powi(level));
-        let (s, m) = pull_off_on(problem, &sys, &solved, &spec, params, &mut cost)?;
+        let (s, m) = match pull_off_on(problem, &sys, &solved, &spec, params, &mut cost) {
+            Ok(found) => found,
+            // the local search can lose the minimum where the slope dF̄/dD is rough on a grid
+            // (the edge crossing cells): trace the whole curve on this grid instead
+            Err(_) => {
+                let s = System::new(problem, spec.build());
+                cost.max_nodes = cost.max_nodes.max(s.len());
+                let m = trace_on(&s, mu, params, &mut cost)?.pull_off;
+                (s, m)
+            }
+        };
         levels.push(RefinementLevel {
             nodes: s.len(),
             pull_off: m.point.load,

@@ -2,10 +2,13 @@
 //!
 //! Unknowns x = (H₀ … H_{N−1}, D): the nodal gaps and the approach. Residuals
 //!
-//! R_i = H_i + D − ρ_i²/2 − Σ_j A_ij P̄(H_j)   (i < N),   R_N = H₀ − H₀\*,
+//! R_i = H_i + D − ρ_i²/2 − Σ_j A_ij P̄(H_j)   (i < N),   R_N = H₀ − H₀\*  (or D − D\*),
 //!
 //! with the exact Jacobian ∂R_i/∂H_j = δ_ij − A_ij k̄(H_j), ∂R_i/∂D = 1, ∂R_N/∂H₀ = 1 (a bordered
-//! dense system, factorised by faer's partial-pivoting LU). The bordering row makes the system
+//! dense system, factorised by faer's partial-pivoting LU). The last row prescribes either the
+//! central gap (continuation, [`Control::CentralGap`]) or the approach
+//! ([`Control::Approach`], used to move a stable solution onto another grid, where H₀ is far
+//! more sensitive to the discretisation than D on the contact branch). The bordering row makes the system
 //! regular at the turning points in D, so the same solve works on the unstable branch of the
 //! S-curve. The tangent of the solution path, dx/dH₀\* = J⁻¹ e_N, gives the predictor for
 //! continuation and the exact slopes dD/dH₀ and dF̄/dH₀ = Σ_j w_j k̄_j dH_j/dH₀ used to locate
@@ -20,6 +23,9 @@ use super::influence::{influence_matrix, scaled_factor};
 use super::{HalfspaceError, HalfspaceParams, Problem, Traction};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
+
+/// Step halvings tried before a Newton step is accepted anyway.
+const MAX_BACKTRACKS: usize = 8;
 
 /// A solution of the discretised problem (scaled units).
 #[derive(Debug, Clone, PartialEq)]
@@ -39,6 +45,15 @@ pub struct Tangent {
     pub approach: f64,
     /// dF̄/dH(0)
     pub load: f64,
+}
+
+/// What the last (bordering) equation prescribes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Control {
+    /// the central gap H(0), z₀
+    CentralGap(f64),
+    /// the approach D, z₀
+    Approach(f64),
 }
 
 /// The discretised problem on one grid: influence matrix, load weights and the law.
@@ -95,8 +110,8 @@ impl<'a, T: Traction> System<'a, T> {
             .collect()
     }
 
-    /// The residual vector (length N + 1) at `state` for the central gap `h0`.
-    pub fn residual(&self, state: &State, h0: f64) -> Vec<f64> {
+    /// The residual vector (length N + 1) at `state` under `control`.
+    pub fn residual(&self, state: &State, control: Control) -> Vec<f64> {
         let (p, _) = self.law(&state.gaps);
         let u = self.displacement(&p);
         let mut r: Vec<f64> = (0..self.len())
@@ -105,26 +120,36 @@ impl<'a, T: Traction> System<'a, T> {
                 state.gaps[i] + state.approach - 0.5 * rho * rho - u[i]
             })
             .collect();
-        r.push(state.gaps[0] - h0);
+        r.push(match control {
+            Control::CentralGap(h0) => state.gaps[0] - h0,
+            Control::Approach(d) => state.approach - d,
+        });
         r
     }
 
     /// The exact Jacobian of [`Self::residual`], (N+1)×(N+1).
-    pub fn jacobian(&self, state: &State) -> Mat<f64> {
+    pub fn jacobian(&self, state: &State, control: Control) -> Mat<f64> {
         let n = self.len();
         let (_, k) = self.law(&state.gaps);
-        Mat::from_fn(n + 1, n + 1, |i, j| match (i < n, j < n) {
-            (true, true) => f64::from(u8::from(i == j)) - self.influence[i * n + j] * k[j],
-            (true, false) => 1.0,
-            (false, true) => f64::from(u8::from(j == 0)),
-            (false, false) => 0.0,
+        let last = match control {
+            Control::CentralGap(_) => 0,
+            Control::Approach(_) => n,
+        };
+        Mat::from_fn(n + 1, n + 1, |i, j| {
+            if i == n {
+                f64::from(u8::from(j == last))
+            } else if j == n {
+                1.0
+            } else {
+                f64::from(u8::from(i == j)) - self.influence[i * n + j] * k[j]
+            }
         })
     }
 
     /// The path tangent at a converged state.
     pub fn tangent(&self, state: &State, h0: f64) -> Result<Tangent, HalfspaceError> {
         let n = self.len();
-        let lu = self.jacobian(state).partial_piv_lu();
+        let lu = self.jacobian(state, Control::CentralGap(h0)).partial_piv_lu();
         let mut rhs = Mat::from_fn(n + 1, 1, |i, _| f64::from(u8::from(i == n)));
         lu.solve_in_place(&mut rhs);
         let t: Vec<f64> = (0..=n).map(|i| rhs[(i, 0)]).collect();
@@ -140,19 +165,23 @@ impl<'a, T: Traction> System<'a, T> {
         })
     }
 
-    /// Newton from `guess` to the solution with central gap `h0`. Returns the state and the
-    /// number of iterations; `Err` (with the last residual) if it does not converge.
+    /// Newton from `guess` to the solution under `control`. Returns the state and the number
+    /// of iterations; `Err` (with the last residual) if it does not converge.
     pub fn solve(
         &self,
-        h0: f64,
+        control: Control,
         guess: State,
         params: &HalfspaceParams,
     ) -> Result<(State, usize), HalfspaceError> {
         let n = self.len();
         let mut state = guess;
         let mut norm = f64::INFINITY;
+        let h0 = match control {
+            Control::CentralGap(h0) => h0,
+            Control::Approach(_) => state.gaps[0],
+        };
         for iteration in 0..=params.max_iterations {
-            let r = self.residual(&state, h0);
+            let r = self.residual(&state, control);
             norm = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             if !norm.is_finite() {
                 return Err(HalfspaceError::NonFinite { central_gap: h0 });
@@ -163,18 +192,30 @@ impl<'a, T: Traction> System<'a, T> {
             if iteration == params.max_iterations {
                 break;
             }
-            let lu = self.jacobian(&state).partial_piv_lu();
+            let lu = self.jacobian(&state, control).partial_piv_lu();
             let mut dx = Mat::from_fn(n + 1, 1, |i, _| -r[i]);
             lu.solve_in_place(&mut dx);
             let largest = (0..=n).fold(0.0f64, |m, i| m.max(dx[(i, 0)].abs()));
             if !largest.is_finite() {
                 return Err(HalfspaceError::NonFinite { central_gap: h0 });
             }
-            let scale = (params.max_newton_change / largest).min(1.0);
-            for (i, g) in state.gaps.iter_mut().enumerate() {
-                *g += scale * dx[(i, 0)];
+            // cap the largest change, then halve until ‖R‖₂ decreases (the Newton direction is
+            // a descent direction of ‖R‖₂², not of the max norm)
+            let norm2: f64 = r.iter().map(|v| v * v).sum();
+            let mut scale = (params.max_newton_change / largest).min(1.0);
+            let mut trial = state.clone();
+            for _ in 0..MAX_BACKTRACKS {
+                trial = State {
+                    gaps: (0..n).map(|i| state.gaps[i] + scale * dx[(i, 0)]).collect(),
+                    approach: state.approach + scale * dx[(n, 0)],
+                };
+                let r_trial = self.residual(&trial, control);
+                if r_trial.iter().map(|v| v * v).sum::<f64>() < norm2 {
+                    break;
+                }
+                scale *= 0.5;
             }
-            state.approach += scale * dx[(n, 0)];
+            state = trial;
         }
         Err(HalfspaceError::NoConvergence {
             central_gap: h0,
@@ -212,20 +253,21 @@ impl<'a, T: Traction> System<'a, T> {
         2.0 * self.problem.scaled_tail_energy(h_edge)
     }
 
-    /// The state on this grid interpolated from a state on `other`.
+    /// A starting state on this grid from a converged state on `other`: the gaps interpolated
+    /// linearly (continued with the rigid profile beyond the old domain), the same approach.
     pub fn transfer(&self, other: &System<'_, T>, state: &State) -> State {
+        let last = *other.grid.nodes.last().unwrap_or(&0.0);
+        let g_last = state.gaps[state.gaps.len() - 1];
         State {
             gaps: self
                 .grid
                 .nodes
                 .iter()
                 .map(|&r| {
-                    let last = *other.grid.nodes.last().unwrap_or(&0.0);
                     if r <= last {
                         other.grid.interpolate(&state.gaps, r)
                     } else {
-                        // beyond the old domain: rigid profile continued from the last node
-                        state.gaps[state.gaps.len() - 1] + 0.5 * (r * r - last * last)
+                        g_last + 0.5 * (r * r - last * last)
                     }
                 })
                 .collect(),
@@ -262,7 +304,7 @@ mod tests {
         // a state with gaps around z₀, where the law is stiff and changes sign
         let mut state = sys.rigid(0.9);
         state.gaps.iter_mut().enumerate().for_each(|(i, g)| *g += 0.05 * (i as f64).sin());
-        let j = sys.jacobian(&state);
+        let j = sys.jacobian(&state, Control::CentralGap(0.9));
         let e = 1e-6;
         for col in [0, 3, n / 2, n] {
             let mut plus = state.clone();
@@ -274,8 +316,8 @@ mod tests {
                 plus.approach += e;
                 minus.approach -= e;
             }
-            let rp = sys.residual(&plus, 0.9);
-            let rm = sys.residual(&minus, 0.9);
+            let rp = sys.residual(&plus, Control::CentralGap(0.9));
+            let rm = sys.residual(&minus, Control::CentralGap(0.9));
             for row in 0..=n {
                 let fd = (rp[row] - rm[row]) / (2.0 * e);
                 let tol = FD_TOL * j[(row, col)].abs().max(1.0);
@@ -290,11 +332,11 @@ mod tests {
         let sys = system(&problem);
         let params = HalfspaceParams::default();
         let h0 = 1.3;
-        let (s0, _) = sys.solve(h0, sys.rigid(h0), &params).unwrap();
+        let (s0, _) = sys.solve(Control::CentralGap(h0), sys.rigid(h0), &params).unwrap();
         let t = sys.tangent(&s0, h0).unwrap();
         let e = 1e-5;
-        let (sp, _) = sys.solve(h0 + e, s0.clone(), &params).unwrap();
-        let (sm, _) = sys.solve(h0 - e, s0.clone(), &params).unwrap();
+        let (sp, _) = sys.solve(Control::CentralGap(h0 + e), s0.clone(), &params).unwrap();
+        let (sm, _) = sys.solve(Control::CentralGap(h0 - e), s0.clone(), &params).unwrap();
         let dd = (sp.approach - sm.approach) / (2.0 * e);
         let df = (sys.load(&sp) - sys.load(&sm)) / (2.0 * e);
         assert!((dd - t.approach).abs() < 1e-5 * t.approach.abs().max(1.0), "{dd} {}", t.approach);
