@@ -5,9 +5,14 @@ use turf::halfspace::{pull_off, trace_curve, HalfspaceParams, Problem};
 use turf::laws::LjKind;
 
 fn main() -> anyhow::Result<()> {
-    let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse()).collect::<Result<_, _>>()?;
+    let args: Vec<f64> = std::env::args()
+        .skip(1)
+        .map(|a| a.parse())
+        .collect::<Result<_, _>>()?;
     let mus = if args.is_empty() {
-        vec![0.01, 0.05, 0.1, 0.2, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 5.0, 10.0]
+        vec![
+            0.01, 0.05, 0.1, 0.2, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 5.0, 10.0,
+        ]
     } else {
         args
     };
@@ -19,7 +24,9 @@ fn main() -> anyhow::Result<()> {
             let curve = trace_curve(&problem, &params)?;
             let po = pull_off(&problem, &params)?;
             let fmt = |p: Option<turf::halfspace::CurvePoint>| {
-                p.map_or("-".to_string(), |p| format!("({:.4},{:.4})", p.load, p.approach))
+                p.map_or("-".to_string(), |p| {
+                    format!("({:.4},{:.4})", p.load, p.approach)
+                })
             };
             let nodes: Vec<usize> = po.levels.iter().map(|l| l.nodes).collect();
             println!(

@@ -246,7 +246,11 @@ pub(crate) fn locate<T: Traction>(
         let secant = (xa * fb - xb * fa) / (fb - fa);
         let mut attempt = None;
         for x in [secant, 0.5 * (xa + xb)] {
-            let from = if (x - xa).abs() < (x - xb).abs() { &a } else { &b };
+            let from = if (x - xa).abs() < (x - xb).abs() {
+                &a
+            } else {
+                &b
+            };
             match solve_from(sys, from, slope.control(x), params, cost) {
                 Ok(c) => {
                     attempt = Some(c);
@@ -332,7 +336,10 @@ pub(crate) fn trace_on<T: Traction>(
         // load minimum: dF̄/dH(0) goes from + to −
         if prev.point.slope_load > 0.0 && next.point.slope_load <= 0.0 {
             let m = locate(sys, &prev, &next, Slope::Load, params, cost)?;
-            if pull_off.as_ref().is_none_or(|p| m.point.load < p.point.load) {
+            if pull_off
+                .as_ref()
+                .is_none_or(|p| m.point.load < p.point.load)
+            {
                 pull_off = Some(m);
             }
         }
@@ -366,7 +373,10 @@ pub fn trace_curve<T: Traction>(
 ) -> Result<Curve, HalfspaceError> {
     let start = Instant::now();
     let mu = problem.tabor();
-    let sys = System::new(problem, super::refinement::trace_grid(problem, params).build());
+    let sys = System::new(
+        problem,
+        super::refinement::trace_grid(problem, params).build(),
+    );
     let mut cost = Cost {
         max_nodes: sys.len(),
         ..Cost::default()

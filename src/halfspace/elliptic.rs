@@ -75,7 +75,10 @@ mod tests {
             let kp = (1.0f64 - k * k).sqrt();
             let (k1, e1) = elliptic_ke(k);
             let (k2, e2) = elliptic_ke(kp);
-            assert!((e1 * k2 + e2 * k1 - k1 * k2 - PI / 2.0).abs() < 1e-13, "{k}");
+            assert!(
+                (e1 * k2 + e2 * k1 - k1 * k2 - PI / 2.0).abs() < 1e-13,
+                "{k}"
+            );
         }
     }
 }

@@ -79,7 +79,10 @@ impl Grid {
 
     /// Ring weights w_j = b_{j+1}² − b_j², so the scaled load 2∫P̄ρdρ is Σ w_j P̄_j.
     pub fn load_weights(&self) -> Vec<f64> {
-        self.edges.windows(2).map(|e| e[1] * e[1] - e[0] * e[0]).collect()
+        self.edges
+            .windows(2)
+            .map(|e| e[1] * e[1] - e[0] * e[0])
+            .collect()
     }
 
     /// Linear interpolation of nodal values `f` at radius `rho` (constant beyond the ends).
@@ -137,6 +140,9 @@ mod tests {
     fn refinement_halves_the_spacing() {
         let coarse = spec().build().len();
         let fine = spec().refined(2.0).build().len();
-        assert!((fine as f64 / coarse as f64 - 2.0).abs() < 0.1, "{coarse} {fine}");
+        assert!(
+            (fine as f64 / coarse as f64 - 2.0).abs() < 0.1,
+            "{coarse} {fine}"
+        );
     }
 }

@@ -198,7 +198,7 @@ pub struct HalfspaceParams {
 impl Default for HalfspaceParams {
     fn default() -> Self {
         HalfspaceParams {
-            cells_per_zone: 8.0,
+            cells_per_zone: 12.0,
             growth: 0.15,
             tail_tolerance: 1e-5,
             start_gap: None,

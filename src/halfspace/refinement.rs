@@ -132,7 +132,11 @@ fn pull_off_on<'a, T: Traction>(
     let per_d = |s: &Solved| {
         s.tangent.gaps.iter().fold(0.0f64, |m, t| m.max(t.abs())) / s.tangent.approach.abs()
     };
-    let sign = if Slope::LoadPerApproach.value(&centre) > 0.0 { -1.0 } else { 1.0 };
+    let sign = if Slope::LoadPerApproach.value(&centre) > 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
     let mut near = centre;
     const MAX_BRACKET_STEPS: usize = 40;
     let mut step = 0.1 * params.max_gap_change / per_d(&near).max(f64::MIN_POSITIVE);
@@ -146,7 +150,8 @@ fn pull_off_on<'a, T: Traction>(
             }
             Err(e) => return Err(e),
         };
-        if (Slope::LoadPerApproach.value(&far) > 0.0) != (Slope::LoadPerApproach.value(&near) > 0.0) {
+        if (Slope::LoadPerApproach.value(&far) > 0.0) != (Slope::LoadPerApproach.value(&near) > 0.0)
+        {
             let m = locate(&sys, &near, &far, Slope::LoadPerApproach, params, cost)?;
             return Ok((sys, m));
         }
@@ -207,7 +212,11 @@ pub fn pull_off<T: Traction>(
     let (f1, f2, f3) = (levels[0].pull_off, levels[1].pull_off, levels[2].pull_off);
     let r = params.refinement_ratio;
     let ratio = (f2 - f1) / (f3 - f2);
-    let order = if ratio > 1.0 { ratio.ln() / r.ln() } else { f64::NAN };
+    let order = if ratio > 1.0 {
+        ratio.ln() / r.ln()
+    } else {
+        f64::NAN
+    };
     let (extrapolated, richardson) = if (0.5..=4.0).contains(&order) {
         let e = (f3 - f2) / (r.powf(order) - 1.0);
         (f3 + e, e.abs())

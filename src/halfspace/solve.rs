@@ -149,7 +149,9 @@ impl<'a, T: Traction> System<'a, T> {
     /// The path tangent at a converged state.
     pub fn tangent(&self, state: &State, h0: f64) -> Result<Tangent, HalfspaceError> {
         let n = self.len();
-        let lu = self.jacobian(state, Control::CentralGap(h0)).partial_piv_lu();
+        let lu = self
+            .jacobian(state, Control::CentralGap(h0))
+            .partial_piv_lu();
         let mut rhs = Mat::from_fn(n + 1, 1, |i, _| f64::from(u8::from(i == n)));
         lu.solve_in_place(&mut rhs);
         let t: Vec<f64> = (0..=n).map(|i| rhs[(i, 0)]).collect();
@@ -303,7 +305,11 @@ mod tests {
         let n = sys.len();
         // a state with gaps around z₀, where the law is stiff and changes sign
         let mut state = sys.rigid(0.9);
-        state.gaps.iter_mut().enumerate().for_each(|(i, g)| *g += 0.05 * (i as f64).sin());
+        state
+            .gaps
+            .iter_mut()
+            .enumerate()
+            .for_each(|(i, g)| *g += 0.05 * (i as f64).sin());
         let j = sys.jacobian(&state, Control::CentralGap(0.9));
         let e = 1e-6;
         for col in [0, 3, n / 2, n] {
@@ -321,7 +327,11 @@ mod tests {
             for row in 0..=n {
                 let fd = (rp[row] - rm[row]) / (2.0 * e);
                 let tol = FD_TOL * j[(row, col)].abs().max(1.0);
-                assert!((fd - j[(row, col)]).abs() < tol, "({row},{col}) {fd} vs {}", j[(row, col)]);
+                assert!(
+                    (fd - j[(row, col)]).abs() < tol,
+                    "({row},{col}) {fd} vs {}",
+                    j[(row, col)]
+                );
             }
         }
     }
@@ -332,15 +342,29 @@ mod tests {
         let sys = system(&problem);
         let params = HalfspaceParams::default();
         let h0 = 1.3;
-        let (s0, _) = sys.solve(Control::CentralGap(h0), sys.rigid(h0), &params).unwrap();
+        let (s0, _) = sys
+            .solve(Control::CentralGap(h0), sys.rigid(h0), &params)
+            .unwrap();
         let t = sys.tangent(&s0, h0).unwrap();
         let e = 1e-5;
-        let (sp, _) = sys.solve(Control::CentralGap(h0 + e), s0.clone(), &params).unwrap();
-        let (sm, _) = sys.solve(Control::CentralGap(h0 - e), s0.clone(), &params).unwrap();
+        let (sp, _) = sys
+            .solve(Control::CentralGap(h0 + e), s0.clone(), &params)
+            .unwrap();
+        let (sm, _) = sys
+            .solve(Control::CentralGap(h0 - e), s0.clone(), &params)
+            .unwrap();
         let dd = (sp.approach - sm.approach) / (2.0 * e);
         let df = (sys.load(&sp) - sys.load(&sm)) / (2.0 * e);
-        assert!((dd - t.approach).abs() < 1e-5 * t.approach.abs().max(1.0), "{dd} {}", t.approach);
-        assert!((df - t.load).abs() < 1e-5 * t.load.abs().max(1.0), "{df} {}", t.load);
+        assert!(
+            (dd - t.approach).abs() < 1e-5 * t.approach.abs().max(1.0),
+            "{dd} {}",
+            t.approach
+        );
+        assert!(
+            (df - t.load).abs() < 1e-5 * t.load.abs().max(1.0),
+            "{df} {}",
+            t.load
+        );
     }
 
     #[test]
@@ -352,7 +376,11 @@ mod tests {
         let sys = system(&problem);
         let n = sys.len();
         let p: Vec<f64> = sys.grid.nodes.iter().map(|r| (-r * r).exp()).collect();
-        let f: f64 = p.iter().zip(sys.grid.load_weights()).map(|(p, w)| p * w).sum();
+        let f: f64 = p
+            .iter()
+            .zip(sys.grid.load_weights())
+            .map(|(p, w)| p * w)
+            .sum();
         // displacement at a far radius through the same ring coefficients
         let rho = 1e3;
         let u: f64 = (0..n)
