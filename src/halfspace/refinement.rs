@@ -7,8 +7,11 @@
 //! the gap at the edge beyond H_tail, where the rigid tail load 2|φ̄(H_tail)| is below
 //! `tail_tolerance`, after allowing for the approach.
 //!
-//! The pull-off is then recomputed on three grids refined around the contact radius at pull-off,
-//! each with all cells smaller by `refinement_ratio` (r). With values F₁, F₂, F₃ the observed
+//! The pull-off is then recomputed on three grids, uniform from the centre to a little beyond
+//! the contact radius at pull-off (a grid fine only near the edge, coarse inside, made Newton
+//! fail on the transfer at μ = 3), each with all cells smaller by `refinement_ratio` (r). On
+//! each grid the minimum of F̄ is found by a secant search on dF̄/dD from the previous grid's
+//! solution; if that fails, the whole curve is traced on that grid instead. With values F₁, F₂, F₃ the observed
 //! order is p = ln((F₂ − F₁)/(F₃ − F₂))/ln r, and the Richardson error estimate of F₃ is
 //! |F₃ − F₂|/(r^p − 1); when the sequence is not monotone or p is outside [1/2, 4] the estimate
 //! falls back to |F₃ − F₂| (conservative). The tail estimate is added to the error.
@@ -97,7 +100,7 @@ impl PullOff {
     }
 }
 
-/// The pull-off grid: fine around the contact radius at pull-off.
+/// The pull-off grid: uniform out to the contact radius at pull-off plus 2ℓ + 10 %.
 fn pull_off_grid(mu: f64, contact_radius: f64, outer: f64, params: &HalfspaceParams) -> GridSpec {
     let ell = process_zone(mu);
     let half_width = 2.0 * ell + 0.1 * contact_radius;
