@@ -28,7 +28,8 @@
 //! traces it through both turning points in D ([`curve`]). Pull-off (the minimum load, i.e. the
 //! load-control pull-off) and the jump points (turning points of D: jump-in on approach and
 //! jump-out on retraction under displacement control) are located by the secant (Illinois)
-//! method on dF̄/dH(0) and dD/dH(0), computed exactly from the tangent of the solution path.
+//! method on dF̄/dH(0) and dD/dH(0) (dF̄/dD on refined grids), computed exactly from the tangent
+//! of the solution path. Where |dD/dH(0)| > 1 the corrector prescribes D instead of H(0).
 //! [`refinement`] repeats the pull-off on three grids that halve every cell and reports a
 //! Richardson error estimate.
 //!

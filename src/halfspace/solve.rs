@@ -369,8 +369,8 @@ mod tests {
 
     #[test]
     fn far_field_displacement_equals_point_load() {
-        // Boussinesq: far from the loaded disc u → P/(πE* r); scaled U = (F̄/2)·(4/π)μ^{3/2}·π/(4ρ)... i.e.
-        // U(ρ) → μ^{3/2} F̄ / (2ρ)... checked against the same load from the ring weights.
+        // Boussinesq far field u → P/(πE* r): the ring coefficients and the load weights must
+        // describe the same load, so the scaled far-field displacement is F̄ μ^{3/2}/ρ
         let mu: f64 = 0.7;
         let problem = Problem::scaled(mu, LjKind::Lj93).unwrap();
         let sys = system(&problem);
