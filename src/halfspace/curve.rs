@@ -15,7 +15,7 @@ use super::{Cost, HalfspaceError, HalfspaceParams, Problem, Scales, Traction};
 use std::time::Instant;
 
 /// A point of the curve, scaled units (see [`super`]): load in πγR, gaps in z₀, radii in √(Rz₀).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct CurvePoint {
     /// central gap H(0)
     pub central_gap: f64,
@@ -31,15 +31,8 @@ pub struct CurvePoint {
     pub slope_load: f64,
 }
 
-/// A located special point of the curve.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TurningPoint {
-    /// the point
-    pub point: CurvePoint,
-}
-
 /// The traced curve and its special points.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Curve {
     /// Tabor parameter μ
     pub tabor: f64,

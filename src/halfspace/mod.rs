@@ -46,7 +46,7 @@ pub mod influence;
 pub mod refinement;
 pub mod solve;
 
-pub use curve::{trace_curve, Curve, CurvePoint, TurningPoint};
+pub use curve::{trace_curve, Curve, CurvePoint};
 pub use refinement::{pull_off, PullOff, RefinementLevel};
 
 use crate::laws::{LennardJones, LjKind};
@@ -88,7 +88,7 @@ pub struct Problem<T: Traction = LennardJones> {
 }
 
 /// Conversion factors from scaled to internal units.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Scales {
     /// load unit πγR, nN
     pub load: f64,
@@ -218,7 +218,7 @@ impl Default for HalfspaceParams {
 }
 
 /// Cost of an answer.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct Cost {
     /// Newton iterations (each one dense LU factorisation)
     pub newton_iterations: usize,

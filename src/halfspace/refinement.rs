@@ -54,7 +54,7 @@ pub fn trace_grid<T: Traction>(problem: &Problem<T>, params: &HalfspaceParams) -
 }
 
 /// One grid of the refinement study.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct RefinementLevel {
     /// nodes
     pub nodes: usize,
@@ -65,7 +65,7 @@ pub struct RefinementLevel {
 }
 
 /// Pull-off with its grid-refinement study.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct PullOff {
     /// Tabor parameter μ
     pub tabor: f64,
