@@ -1,0 +1,399 @@
+//! Newton's method for the discretised half-space at a prescribed central gap.
+//!
+//! Unknowns x = (H₀ … H_{N−1}, D): the nodal gaps and the approach. Residuals
+//!
+//! R_i = H_i + D − ρ_i²/2 − Σ_j A_ij P̄(H_j)   (i < N),   R_N = H₀ − H₀\*  (or D − D\*),
+//!
+//! with the exact Jacobian ∂R_i/∂H_j = δ_ij − A_ij k̄(H_j), ∂R_i/∂D = 1, ∂R_N/∂H₀ = 1 (a bordered
+//! dense system, factorised by faer's partial-pivoting LU). The last row prescribes either the
+//! central gap (continuation, [`Control::CentralGap`]) or the approach
+//! ([`Control::Approach`], used to move a stable solution onto another grid, where H₀ is far
+//! more sensitive to the discretisation than D on the contact branch). The bordering row makes the system
+//! regular at the turning points in D, so the same solve works on the unstable branch of the
+//! S-curve. The tangent of the solution path, dx/dH₀\* = J⁻¹ e_N, gives the predictor for
+//! continuation and the exact slopes dD/dH₀ and dF̄/dH₀ = Σ_j w_j k̄_j dH_j/dH₀ used to locate
+//! jump points and pull-off.
+//!
+//! The collocation system is not symmetric (ring-averaged displacements would be), so it is not
+//! the gradient of a discrete energy; the Jacobian is the exact derivative of the residual
+//! (checked by finite differences below).
+
+use super::grid::Grid;
+use super::influence::{influence_matrix, scaled_factor};
+use super::{HalfspaceError, HalfspaceParams, Problem, Traction};
+use faer::linalg::solvers::Solve;
+use faer::Mat;
+
+/// Step halvings tried before a Newton step is accepted anyway.
+const MAX_BACKTRACKS: usize = 8;
+
+/// A solution of the discretised problem (scaled units).
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// nodal gaps H_i, z₀
+    pub gaps: Vec<f64>,
+    /// approach D, z₀
+    pub approach: f64,
+}
+
+/// The slope of the solution path with respect to the central gap H(0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tangent {
+    /// dH_i/dH(0)
+    pub gaps: Vec<f64>,
+    /// dD/dH(0)
+    pub approach: f64,
+    /// dF̄/dH(0)
+    pub load: f64,
+}
+
+/// What the last (bordering) equation prescribes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Control {
+    /// the central gap H(0), z₀
+    CentralGap(f64),
+    /// the approach D, z₀
+    Approach(f64),
+}
+
+/// The discretised problem on one grid: influence matrix, load weights and the law.
+pub struct System<'a, T: Traction> {
+    problem: &'a Problem<T>,
+    /// the radial grid
+    pub grid: Grid,
+    influence: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+impl<'a, T: Traction> System<'a, T> {
+    /// Assemble the influence matrix on `grid`.
+    pub fn new(problem: &'a Problem<T>, grid: Grid) -> Self {
+        let influence = influence_matrix(&grid, scaled_factor(problem.tabor()));
+        let weights = grid.load_weights();
+        System {
+            problem,
+            grid,
+            influence,
+            weights,
+        }
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.grid.len()
+    }
+
+    /// True if there are no nodes.
+    pub fn is_empty(&self) -> bool {
+        self.grid.is_empty()
+    }
+
+    /// Scaled pressures and stiffnesses at the nodal gaps.
+    fn law(&self, gaps: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        gaps.iter().map(|&h| self.problem.scaled_law(h)).unzip()
+    }
+
+    /// Scaled load F̄ = Σ w_j P̄(H_j).
+    pub fn load(&self, state: &State) -> f64 {
+        let (p, _) = self.law(&state.gaps);
+        p.iter().zip(&self.weights).map(|(p, w)| p * w).sum()
+    }
+
+    /// Nodal surface displacements U_i = Σ_j A_ij P̄_j, z₀.
+    pub fn displacement(&self, pressures: &[f64]) -> Vec<f64> {
+        let n = self.len();
+        (0..n)
+            .map(|i| {
+                let row = &self.influence[i * n..(i + 1) * n];
+                row.iter().zip(pressures).map(|(a, p)| a * p).sum()
+            })
+            .collect()
+    }
+
+    /// The residual vector (length N + 1) at `state` under `control`.
+    pub fn residual(&self, state: &State, control: Control) -> Vec<f64> {
+        let (p, _) = self.law(&state.gaps);
+        let u = self.displacement(&p);
+        let mut r: Vec<f64> = (0..self.len())
+            .map(|i| {
+                let rho = self.grid.nodes[i];
+                state.gaps[i] + state.approach - 0.5 * rho * rho - u[i]
+            })
+            .collect();
+        r.push(match control {
+            Control::CentralGap(h0) => state.gaps[0] - h0,
+            Control::Approach(d) => state.approach - d,
+        });
+        r
+    }
+
+    /// The exact Jacobian of [`Self::residual`], (N+1)×(N+1).
+    pub fn jacobian(&self, state: &State, control: Control) -> Mat<f64> {
+        let n = self.len();
+        let (_, k) = self.law(&state.gaps);
+        let last = match control {
+            Control::CentralGap(_) => 0,
+            Control::Approach(_) => n,
+        };
+        Mat::from_fn(n + 1, n + 1, |i, j| {
+            if i == n {
+                f64::from(u8::from(j == last))
+            } else if j == n {
+                1.0
+            } else {
+                f64::from(u8::from(i == j)) - self.influence[i * n + j] * k[j]
+            }
+        })
+    }
+
+    /// The path tangent at a converged state.
+    pub fn tangent(&self, state: &State, h0: f64) -> Result<Tangent, HalfspaceError> {
+        let n = self.len();
+        let lu = self
+            .jacobian(state, Control::CentralGap(h0))
+            .partial_piv_lu();
+        let mut rhs = Mat::from_fn(n + 1, 1, |i, _| f64::from(u8::from(i == n)));
+        lu.solve_in_place(&mut rhs);
+        let t: Vec<f64> = (0..=n).map(|i| rhs[(i, 0)]).collect();
+        if t.iter().any(|v| !v.is_finite()) {
+            return Err(HalfspaceError::NonFinite { central_gap: h0 });
+        }
+        let (_, k) = self.law(&state.gaps);
+        let load = (0..n).map(|j| self.weights[j] * k[j] * t[j]).sum();
+        Ok(Tangent {
+            approach: t[n],
+            gaps: t[..n].to_vec(),
+            load,
+        })
+    }
+
+    /// Newton from `guess` to the solution under `control`. Returns the state and the number
+    /// of iterations; `Err` (with the last residual) if it does not converge.
+    pub fn solve(
+        &self,
+        control: Control,
+        guess: State,
+        params: &HalfspaceParams,
+    ) -> Result<(State, usize), HalfspaceError> {
+        let n = self.len();
+        let mut state = guess;
+        let mut norm = f64::INFINITY;
+        let h0 = match control {
+            Control::CentralGap(h0) => h0,
+            Control::Approach(_) => state.gaps[0],
+        };
+        for iteration in 0..=params.max_iterations {
+            let r = self.residual(&state, control);
+            norm = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if !norm.is_finite() {
+                return Err(HalfspaceError::NonFinite { central_gap: h0 });
+            }
+            if norm < params.tolerance {
+                return Ok((state, iteration));
+            }
+            if iteration == params.max_iterations {
+                break;
+            }
+            let lu = self.jacobian(&state, control).partial_piv_lu();
+            let mut dx = Mat::from_fn(n + 1, 1, |i, _| -r[i]);
+            lu.solve_in_place(&mut dx);
+            let largest = (0..=n).fold(0.0f64, |m, i| m.max(dx[(i, 0)].abs()));
+            if !largest.is_finite() {
+                return Err(HalfspaceError::NonFinite { central_gap: h0 });
+            }
+            // cap the largest change, then halve until ‖R‖₂ decreases (the Newton direction is
+            // a descent direction of ‖R‖₂², not of the max norm)
+            let norm2: f64 = r.iter().map(|v| v * v).sum();
+            let mut scale = (params.max_newton_change / largest).min(1.0);
+            let mut trial = state.clone();
+            for _ in 0..MAX_BACKTRACKS {
+                trial = State {
+                    gaps: (0..n).map(|i| state.gaps[i] + scale * dx[(i, 0)]).collect(),
+                    approach: state.approach + scale * dx[(n, 0)],
+                };
+                let r_trial = self.residual(&trial, control);
+                if r_trial.iter().map(|v| v * v).sum::<f64>() < norm2 {
+                    break;
+                }
+                scale *= 0.5;
+            }
+            state = trial;
+        }
+        Err(HalfspaceError::NoConvergence {
+            central_gap: h0,
+            residual: norm,
+            iterations: params.max_iterations,
+            step: 0.0,
+        })
+    }
+
+    /// The rigid-sphere state (no deformation) with central gap `h0`: a starting guess far out.
+    pub fn rigid(&self, h0: f64) -> State {
+        State {
+            gaps: self.grid.nodes.iter().map(|r| h0 + 0.5 * r * r).collect(),
+            approach: -h0,
+        }
+    }
+
+    /// Contact radius: outermost radius where H = 1 (p changes sign), scaled; 0 if H(0) > 1.
+    pub fn contact_radius(&self, state: &State) -> f64 {
+        let g = &state.gaps;
+        match (1..g.len()).rev().find(|&i| g[i - 1] <= 1.0 && g[i] > 1.0) {
+            Some(i) => {
+                let (r0, r1) = (self.grid.nodes[i - 1], self.grid.nodes[i]);
+                r0 + (1.0 - g[i - 1]) / (g[i] - g[i - 1]) * (r1 - r0)
+            }
+            None => 0.0,
+        }
+    }
+
+    /// Rigid estimate of the load carried by the attraction beyond the outer edge, 2φ̄(H_edge).
+    pub fn tail_load(&self, state: &State) -> f64 {
+        let b = *self.grid.edges.last().unwrap_or(&0.0);
+        let h_edge = self.grid.interpolate(&state.gaps, b) + 0.5 * b * b
+            - 0.5 * self.grid.nodes.last().map_or(0.0, |r| r * r);
+        2.0 * self.problem.scaled_tail_energy(h_edge)
+    }
+
+    /// A starting state on this grid from a converged state on `other`: the gaps interpolated
+    /// linearly (continued with the rigid profile beyond the old domain), the same approach.
+    pub fn transfer(&self, other: &System<'_, T>, state: &State) -> State {
+        let last = *other.grid.nodes.last().unwrap_or(&0.0);
+        let g_last = state.gaps[state.gaps.len() - 1];
+        State {
+            gaps: self
+                .grid
+                .nodes
+                .iter()
+                .map(|&r| {
+                    if r <= last {
+                        other.grid.interpolate(&state.gaps, r)
+                    } else {
+                        g_last + 0.5 * (r * r - last * last)
+                    }
+                })
+                .collect(),
+            approach: state.approach,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::grid::GridSpec;
+    use super::*;
+    use crate::laws::LjKind;
+
+    const FD_TOL: f64 = 1e-6; // central differences, step 1e-6: truncation ~1e-10, rounding ~1e-9
+
+    fn system(problem: &Problem) -> System<'_, LennardJones> {
+        let spec = GridSpec {
+            fine_spacing: 0.1,
+            zone_lo: 0.0,
+            zone_hi: 2.0,
+            growth: 0.3,
+            outer: 10.0,
+        };
+        System::new(problem, spec.build())
+    }
+    use crate::laws::LennardJones;
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let problem = Problem::scaled(1.0, LjKind::Lj93).unwrap();
+        let sys = system(&problem);
+        let n = sys.len();
+        // a state with gaps around z₀, where the law is stiff and changes sign
+        let mut state = sys.rigid(0.9);
+        state
+            .gaps
+            .iter_mut()
+            .enumerate()
+            .for_each(|(i, g)| *g += 0.05 * (i as f64).sin());
+        let j = sys.jacobian(&state, Control::CentralGap(0.9));
+        let e = 1e-6;
+        for col in [0, 3, n / 2, n] {
+            let mut plus = state.clone();
+            let mut minus = state.clone();
+            if col < n {
+                plus.gaps[col] += e;
+                minus.gaps[col] -= e;
+            } else {
+                plus.approach += e;
+                minus.approach -= e;
+            }
+            let rp = sys.residual(&plus, Control::CentralGap(0.9));
+            let rm = sys.residual(&minus, Control::CentralGap(0.9));
+            for row in 0..=n {
+                let fd = (rp[row] - rm[row]) / (2.0 * e);
+                let tol = FD_TOL * j[(row, col)].abs().max(1.0);
+                assert!(
+                    (fd - j[(row, col)]).abs() < tol,
+                    "({row},{col}) {fd} vs {}",
+                    j[(row, col)]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn newton_converges_and_tangent_matches_finite_differences() {
+        let problem = Problem::scaled(1.0, LjKind::Lj93).unwrap();
+        let sys = system(&problem);
+        let params = HalfspaceParams::default();
+        let h0 = 1.3;
+        let (s0, _) = sys
+            .solve(Control::CentralGap(h0), sys.rigid(h0), &params)
+            .unwrap();
+        let t = sys.tangent(&s0, h0).unwrap();
+        let e = 1e-5;
+        let (sp, _) = sys
+            .solve(Control::CentralGap(h0 + e), s0.clone(), &params)
+            .unwrap();
+        let (sm, _) = sys
+            .solve(Control::CentralGap(h0 - e), s0.clone(), &params)
+            .unwrap();
+        let dd = (sp.approach - sm.approach) / (2.0 * e);
+        let df = (sys.load(&sp) - sys.load(&sm)) / (2.0 * e);
+        assert!(
+            (dd - t.approach).abs() < 1e-5 * t.approach.abs().max(1.0),
+            "{dd} {}",
+            t.approach
+        );
+        assert!(
+            (df - t.load).abs() < 1e-5 * t.load.abs().max(1.0),
+            "{df} {}",
+            t.load
+        );
+    }
+
+    #[test]
+    fn far_field_displacement_equals_point_load() {
+        // Boussinesq far field u → P/(πE* r): the ring coefficients and the load weights must
+        // describe the same load, so the scaled far-field displacement is F̄ μ^{3/2}/ρ
+        let mu: f64 = 0.7;
+        let problem = Problem::scaled(mu, LjKind::Lj93).unwrap();
+        let sys = system(&problem);
+        let n = sys.len();
+        let p: Vec<f64> = sys.grid.nodes.iter().map(|r| (-r * r).exp()).collect();
+        let f: f64 = p
+            .iter()
+            .zip(sys.grid.load_weights())
+            .map(|(p, w)| p * w)
+            .sum();
+        // displacement at a far radius through the same ring coefficients
+        let rho = 1e3;
+        let u: f64 = (0..n)
+            .map(|j| {
+                let (b0, b1) = (sys.grid.edges[j], sys.grid.edges[j + 1]);
+                scaled_factor(mu)
+                    * (super::super::influence::disc_displacement(rho, b1)
+                        - super::super::influence::disc_displacement(rho, b0))
+                    * p[j]
+            })
+            .sum();
+        // P = πγR F̄, u = P/(πE* r) ⇒ U = u/z₀ = F̄ μ^{3/2} / ρ in scaled units
+        let want = f * mu.powf(1.5) / rho;
+        assert!((u - want).abs() < 1e-5 * want.abs(), "{u} vs {want}");
+    }
+}
