@@ -2,3 +2,5 @@
 //! broadphase, generation, drives, analysis.
 
 pub mod energy;
+pub mod rod;
+pub mod rod_kernels;
