@@ -4,3 +4,6 @@
 pub mod energy;
 pub mod rod;
 pub mod rod_kernels;
+pub mod constraints;
+pub mod solve;
+pub mod solve_newton;
