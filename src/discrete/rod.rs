@@ -52,6 +52,23 @@ impl RodStiffness {
     }
 }
 
+/// Nodes of a straight polygon: `segments` equal segments of total length `length` (nm) from
+/// `origin` (nm) along `direction` (normalised here).
+pub fn straight_points(
+    origin: [f64; 3],
+    direction: [f64; 3],
+    length: f64,
+    segments: usize,
+) -> Vec<[f64; 3]> {
+    let d = Vector3::from(direction).normalize();
+    (0..=segments)
+        .map(|i| {
+            let s = length * i as f64 / segments as f64;
+            [0, 1, 2].map(|a| origin[a] + s * d[a])
+        })
+        .collect()
+}
+
 /// Why a rod could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RodError {

@@ -217,7 +217,10 @@ mod tests {
         fixed.fix(2);
         let info = minimize_newton(&mut Well, &fixed, &mut x, &NewtonParams::default()).unwrap();
         assert!(info.residual <= info.tolerance);
-        assert!(info.cost.factorizations > info.cost.iterations, "shifted at the start");
+        assert!(
+            info.cost.factorizations > info.cost.iterations,
+            "shifted at the start"
+        );
         // minimum: y = x/4, x² = 1 + 1/16
         assert!((x[0] - (17.0_f64 / 16.0).sqrt()).abs() < 1e-9);
         assert!((x[1] - x[0] / 4.0).abs() < 1e-9);
