@@ -5,6 +5,7 @@ pub mod constraints;
 pub mod energy;
 pub mod rod;
 pub mod rod_kernels;
+pub mod rod_problems;
 pub mod solve;
 pub mod solve_fire;
 pub mod solve_newton;
