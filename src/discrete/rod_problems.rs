@@ -81,10 +81,14 @@ impl RodProblem {
         self.rod.nodes() - 1
     }
 
-    /// Prescribe the end shortening Δ (nm) of the pinned column: x_n = L − Δ.
+    /// Prescribe the end shortening Δ (nm) of the pinned column: x_n = L − Δ, the x coordinates
+    /// of the other nodes scaled with it (a start guess without a crushed end segment).
     pub fn set_end_shortening(&mut self, shortening: f64) {
         let n = self.tip();
-        self.x[3 * n] = self.rod.rest_length() - shortening;
+        let scale = (self.rod.rest_length() - shortening) / self.x[3 * n];
+        for i in 0..=n {
+            self.x[3 * i] *= scale;
+        }
     }
 
     /// The total energy as one term.
