@@ -23,7 +23,9 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 use super::energy::EnergyTerm;
-use super::rod_kernels::{bend_vertex, curvature_binormal, stretch_edge};
+use super::rod_kernels::{
+    bend_vertex, bend_vertex_gradient, curvature_binormal, stretch_edge, stretch_edge_gradient,
+};
 
 /// Elastic constants of a tube section.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -209,17 +211,16 @@ impl Rod {
             }
         };
         for (j, &rest) in self.rest_lengths.iter().enumerate() {
-            let (w, g, _) = stretch_edge(&self.edge(x, j), rest, self.stiffness.axial);
+            let (w, g) = stretch_edge_gradient(&self.edge(x, j), rest, self.stiffness.axial);
             energy += w;
             add(j, &g, -1.0);
             add(j + 1, &g, 1.0);
         }
         for i in 1..self.segments() {
             let (e, f) = (self.edge(x, i - 1), self.edge(x, i));
-            let (w, g, _) = bend_vertex(&e, &f, &self.natural[i - 1], self.bend_weight(i));
+            let (w, ge, gf) =
+                bend_vertex_gradient(&e, &f, &self.natural[i - 1], self.bend_weight(i));
             energy += w;
-            let ge = g.fixed_rows::<3>(0).into_owned();
-            let gf = g.fixed_rows::<3>(3).into_owned();
             add(i - 1, &ge, -1.0);
             add(i, &(ge - gf), 1.0);
             add(i + 1, &gf, 1.0);
