@@ -16,9 +16,11 @@
 //! ∂u/∂e = −[f]×, ∂u/∂f = [e]×, ∂²u_k/∂e_a∂f_b = ε_kab;
 //! ∂d/∂e = |f| ê + f, ∂d/∂f = |e| f̂ + e, ∂²d/∂e² = (|f|/|e|)(I − êêᵀ),
 //! ∂²d/∂f² = (|e|/|f|)(I − f̂f̂ᵀ), ∂²d/∂e∂f = ê f̂ᵀ + I;
-//! ∇κ_k = 2∇u_k/d − 2u_k ∇d/d², ∇²κ_k = 2∇²u_k/d − 2(∇u_k ∇dᵀ + ∇d ∇u_kᵀ)/d² − 2u_k ∇²d/d²
-//! + 4u_k ∇d ∇dᵀ/d³; and for W = c|κb − κb⁰|²: ∇W = 2c Σ_k r_k ∇κ_k,
-//! ∇²W = 2c Σ_k (∇κ_k ∇κ_kᵀ + r_k ∇²κ_k), r = κb − κb⁰.
+//! ∇κ_k = 2∇u_k/d − 2u_k ∇d/d², and
+//! ∇²κ_k = 2∇²u_k/d − 2(∇u_k ∇dᵀ + ∇d ∇u_kᵀ)/d² − 2u_k ∇²d/d² + 4u_k ∇d ∇dᵀ/d³;
+//! for W = c|κb − κb⁰|² (r = κb − κb⁰): ∇W = 2c Σ_k r_k ∇κ_k and
+//! ∇²W = 2c Σ_k (∇κ_k ∇κ_kᵀ + r_k ∇²κ_k).
+//!
 //! The vertex is singular only for a full fold-back (e·f = −|e||f|, d = 0): the energy is then
 //! infinite or NaN and the solvers report it as non-finite.
 
