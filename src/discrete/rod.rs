@@ -473,6 +473,33 @@ mod tests {
     }
 
     #[test]
+    fn rod_set_gives_identical_numbers_with_one_and_two_threads() {
+        let mut rng = Pcg64::seed_from_u64(21);
+        let mut rods = Vec::new();
+        let mut x = Vec::new();
+        for r in 0..6 {
+            let (rod, rest) = random_rod(&mut rng, 9 * r, 9);
+            rods.push(rod);
+            x.extend(rest.iter().flatten().map(|v| v * 1.02 + 0.01));
+        }
+        let set = RodSet::new(rods);
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut g = vec![0.0; x.len()];
+                let e = set.energy_gradient(&x, &mut g);
+                let mut h = Vec::new();
+                set.hessian(&x, &mut h);
+                (e, g, h)
+            })
+        };
+        assert_eq!(run(1), run(2));
+    }
+
+    #[test]
     fn tube_constants_match_physics_md() {
         let s = RodStiffness::turf_tube();
         assert!((s.bending / 2.21e7 - 1.0).abs() < 5e-3);
