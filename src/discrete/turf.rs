@@ -1,0 +1,1 @@
+//! Turf generation (placeholder while writing).
