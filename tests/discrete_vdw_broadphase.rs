@@ -61,7 +61,9 @@ fn bvh_pairs_equal_brute_force_pairs_and_stay_valid_within_the_skin() {
             }
             let rebuilt = bp.update(&x, &keep);
             let within_reach = brute_force_pairs(&segs, &x, &pbox, 0.0, &keep);
-            assert!(within_reach.iter().all(|p| bp.pairs().binary_search(p).is_ok()));
+            assert!(within_reach
+                .iter()
+                .all(|p| bp.pairs().binary_search(p).is_ok()));
             assert!(!rebuilt, "step {step}: moves below skin/2 keep the list");
             // a large move forces a rebuild, refitting the tree; the list is then exact
             x[0] += skin;

@@ -26,7 +26,11 @@ fn straight(start: [f64; 3], dir: [f64; 3], length: f64, seg: f64) -> Vec<[f64; 
     (0..=n)
         .map(|k| {
             let s = length * k as f64 / n as f64;
-            [start[0] + s * dir[0], start[1] + s * dir[1], start[2] + s * dir[2]]
+            [
+                start[0] + s * dir[0],
+                start[1] + s * dir[1],
+                start[2] + s * dir[2],
+            ]
         })
         .collect()
 }
@@ -104,7 +108,9 @@ fn a_tube_sliding_along_another_keeps_its_energy() {
             hi = hi.max(e);
         }
         let variation = (hi - lo) / lo.abs();
-        println!("parallel, segments {seg_a}/{seg_b} nm: E ≈ {lo:.4} aJ, variation {variation:.2e}");
+        println!(
+            "parallel, segments {seg_a}/{seg_b} nm: E ≈ {lo:.4} aJ, variation {variation:.2e}"
+        );
         assert!(variation < SLIDING_TOL);
         // crossed tubes sliding along each other
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
