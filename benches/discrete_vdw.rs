@@ -11,8 +11,8 @@ use turf::discrete::turf::{generate_turf, TurfParams};
 use turf::discrete::vdw::VdwParams;
 use turf::discrete::vdw_term::VdwTerm;
 
-/// 100 wavy tubes of 100 segments (50 nm) in a 700 nm periodic box: an unrelaxed turf whose
-/// neighbouring tubes touch and cross.
+/// 100 wavy tubes of 100 segments (50 nm) in a 700 nm periodic box: an unrelaxed turf in
+/// which some neighbouring tubes touch, cross or overlap.
 fn turf_100x100() -> (VdwTerm, Vec<f64>, turf::discrete::turf::Turf) {
     let p = TurfParams {
         density: 100.0 / (700.0 * 700.0),
@@ -21,7 +21,7 @@ fn turf_100x100() -> (VdwTerm, Vec<f64>, turf::discrete::turf::Turf) {
         length_mean: 5000.0,
         length_cv: 0.0,
         segment_length: 50.0,
-        wave_amplitude: 80.0,
+        wave_amplitude: 20.0,
         wave_length: 600.0,
         tilt_spread: 0.05,
         ..TurfParams::default()
