@@ -1,0 +1,444 @@
+//! Turf generation (issue 7, item 4; seed §2.4, Fig 1.1): nominally vertical, slightly wavy
+//! tubes grown from the substrate z = 0 in a box periodic in x and y.
+//!
+//! Tube i starts at a base point bᵢ on the substrate (uniform in the box, no two bases closer
+//! than the sum of their outer radii plus the equilibrium gap, periodic distance), grows along
+//! a direction tilted from z by θ (the two horizontal tilt components are normal with standard
+//! deviation `tilt_spread`), and waves in a horizontal direction eᵢ:
+//!
+//! xᵢ(s) = bᵢ + s dᵢ + A (sin(2πs/λ + φᵢ) − sin φᵢ) eᵢ,  0 ≤ s ≤ Lᵢ,
+//!
+//! sampled at ⌈Lᵢ/ℓ⌉ + 1 equally spaced s. Lengths are log-normal (mean, coefficient of
+//! variation), outer radii normal (mean, coefficient of variation, inner radius scaled with
+//! the outer one). The first two nodes of each tube are clamped (position and tangent at the
+//! substrate). Every random number comes from one `Pcg64` seeded by `seed`, drawn in a fixed
+//! order, so a turf is portable and reproducible.
+//!
+//! Relaxation (contacts forming, bending locked in, E = U − Γ of seed eq. 1.1) needs the rod
+//! energy and a static solver: [`EnergyBalance`] is the report it fills.
+
+use std::f64::consts::PI;
+
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64;
+use serde::{Deserialize, Serialize};
+
+use super::broadphase::PeriodicBox;
+use super::vdw_term::TubeLayout;
+
+/// The `[turf]` generation parameters (internal units: nm, rad).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TurfParams {
+    /// areal density of tubes, 1/nm² (1e-4 /nm² = 10¹⁰ tubes/cm²)
+    pub density: f64,
+    /// box side along x (periodic), nm
+    pub box_x: f64,
+    /// box side along y (periodic), nm
+    pub box_y: f64,
+    /// mean outer radius r_o, nm (PHYSICS.md: 20 nm)
+    pub radius_outer: f64,
+    /// inner radius for the mean outer radius, nm (PHYSICS.md: 17.3 nm)
+    pub radius_inner: f64,
+    /// coefficient of variation of the outer radius (normal, clipped at ±3σ)
+    pub radius_cv: f64,
+    /// mean tube length (growth parameter s), nm
+    pub length_mean: f64,
+    /// coefficient of variation of the length (log-normal)
+    pub length_cv: f64,
+    /// standard deviation of each horizontal component of the growth tilt, rad
+    pub tilt_spread: f64,
+    /// waviness amplitude A, nm
+    pub wave_amplitude: f64,
+    /// waviness wavelength λ, nm
+    pub wave_length: f64,
+    /// target segment length ℓ, nm
+    pub segment_length: f64,
+    /// random seed
+    pub seed: u64,
+}
+
+impl Default for TurfParams {
+    fn default() -> Self {
+        TurfParams {
+            density: 1e-4,
+            box_x: 1000.0,
+            box_y: 1000.0,
+            radius_outer: 20.0,
+            radius_inner: 17.3,
+            radius_cv: 0.0,
+            length_mean: 2000.0,
+            length_cv: 0.1,
+            tilt_spread: 0.1,
+            wave_amplitude: 30.0,
+            wave_length: 800.0,
+            segment_length: 50.0,
+            seed: 1,
+        }
+    }
+}
+
+/// Why a turf could not be generated.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TurfError {
+    /// a parameter outside its allowed range
+    #[error("turf parameter `{name}` = {value} is not allowed: {allowed}")]
+    InvalidParameter {
+        /// parameter name
+        name: &'static str,
+        /// offending value
+        value: f64,
+        /// what is allowed
+        allowed: &'static str,
+    },
+    /// the bases could not be placed without overlap
+    #[error("placed only {placed} of {wanted} tube bases without overlap: density too high")]
+    TooDense {
+        /// bases placed
+        placed: usize,
+        /// bases wanted
+        wanted: usize,
+    },
+}
+
+/// Attempts per base before the density is declared too high.
+const PLACEMENT_ATTEMPTS: usize = 1000;
+/// Largest tilt from vertical, rad (80°): tubes must rise from the substrate.
+const MAX_TILT: f64 = 80.0 * PI / 180.0;
+/// Gap kept between the bases of two tubes, nm (the equilibrium wall gap).
+const BASE_GAP: f64 = 0.34;
+/// Clipping of the normal radius distribution, in standard deviations.
+const RADIUS_CLIP: f64 = 3.0;
+
+impl TurfParams {
+    /// Check every parameter's range.
+    pub fn validate(&self) -> Result<(), TurfError> {
+        let check = |name, value: f64, ok: bool, allowed| {
+            if value.is_finite() && ok {
+                Ok(())
+            } else {
+                Err(TurfError::InvalidParameter {
+                    name,
+                    value,
+                    allowed,
+                })
+            }
+        };
+        let p = self;
+        check("density", p.density, p.density > 0.0, "> 0")?;
+        check("box_x", p.box_x, p.box_x > 0.0, "> 0")?;
+        check("box_y", p.box_y, p.box_y > 0.0, "> 0")?;
+        check("radius_outer", p.radius_outer, p.radius_outer > 0.0, "> 0")?;
+        check(
+            "radius_inner",
+            p.radius_inner,
+            (0.0..p.radius_outer).contains(&p.radius_inner),
+            "0 <= r_i < r_o",
+        )?;
+        check(
+            "radius_cv",
+            p.radius_cv,
+            (0.0..1.0 / RADIUS_CLIP).contains(&p.radius_cv),
+            "0 <= cv < 1/3",
+        )?;
+        check("length_mean", p.length_mean, p.length_mean > 0.0, "> 0")?;
+        check("length_cv", p.length_cv, p.length_cv >= 0.0, ">= 0")?;
+        check("tilt_spread", p.tilt_spread, p.tilt_spread >= 0.0, ">= 0")?;
+        check(
+            "wave_amplitude",
+            p.wave_amplitude,
+            p.wave_amplitude >= 0.0,
+            ">= 0",
+        )?;
+        check("wave_length", p.wave_length, p.wave_length > 0.0, "> 0")?;
+        check(
+            "segment_length",
+            p.segment_length,
+            p.segment_length > 0.0,
+            "> 0",
+        )?;
+        Ok(())
+    }
+}
+
+/// One generated tube.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Tube {
+    /// node positions, nm; node 0 on the substrate
+    pub nodes: Vec<[f64; 3]>,
+    /// outer radius, nm
+    pub radius_outer: f64,
+    /// inner radius, nm
+    pub radius_inner: f64,
+}
+
+/// A generated turf: tubes and the periodic box.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Turf {
+    /// the tubes
+    pub tubes: Vec<Tube>,
+    /// periodic in x and y
+    pub periodic: PeriodicBox,
+}
+
+impl Turf {
+    /// The flat coordinate vector (3 per node, tubes one after another), nm.
+    pub fn coordinates(&self) -> Vec<f64> {
+        self.tubes
+            .iter()
+            .flat_map(|t| t.nodes.iter().flatten().copied())
+            .collect()
+    }
+
+    /// Where each tube's nodes sit in [`Turf::coordinates`].
+    pub fn layout(&self) -> Vec<TubeLayout> {
+        let mut first = 0;
+        self.tubes
+            .iter()
+            .map(|t| {
+                let l = TubeLayout {
+                    first_node: first,
+                    nodes: t.nodes.len(),
+                    radius: t.radius_outer,
+                };
+                first += t.nodes.len();
+                l
+            })
+            .collect()
+    }
+
+    /// Indices of the clamped nodes: the first two of each tube (position and tangent at the
+    /// substrate).
+    pub fn clamped_nodes(&self) -> Vec<usize> {
+        self.layout()
+            .iter()
+            .flat_map(|l| [l.first_node, l.first_node + 1])
+            .collect()
+    }
+}
+
+/// Standard normal deviate (Box–Muller on two uniforms: portable).
+fn normal(rng: &mut Pcg64) -> f64 {
+    let u1: f64 = 1.0 - rng.random::<f64>(); // (0, 1]
+    let u2: f64 = rng.random::<f64>();
+    (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
+}
+
+/// Generate a turf from `p` (deterministic in `p.seed`).
+pub fn generate_turf(p: &TurfParams) -> Result<Turf, TurfError> {
+    p.validate()?;
+    let wanted = (p.density * p.box_x * p.box_y).round() as usize;
+    let mut rng = Pcg64::seed_from_u64(p.seed);
+    let ln_sigma2 = (1.0 + p.length_cv * p.length_cv).ln();
+    let ln_mu = p.length_mean.ln() - 0.5 * ln_sigma2;
+    let periodic_dist2 = |a: [f64; 2], b: [f64; 2]| {
+        let wrap = |d: f64, l: f64| d - l * (d / l).round();
+        wrap(a[0] - b[0], p.box_x).powi(2) + wrap(a[1] - b[1], p.box_y).powi(2)
+    };
+    let mut bases: Vec<([f64; 2], f64)> = Vec::with_capacity(wanted);
+    let mut tubes = Vec::with_capacity(wanted);
+    for _ in 0..wanted {
+        let radius = p.radius_outer
+            * (1.0 + p.radius_cv * normal(&mut rng).clamp(-RADIUS_CLIP, RADIUS_CLIP));
+        let mut base = None;
+        for _ in 0..PLACEMENT_ATTEMPTS {
+            let b = [rng.random::<f64>() * p.box_x, rng.random::<f64>() * p.box_y];
+            let free = bases
+                .iter()
+                .all(|&(c, rc)| periodic_dist2(b, c) >= (radius + rc + BASE_GAP).powi(2));
+            if free {
+                base = Some(b);
+                break;
+            }
+        }
+        let Some(base) = base else {
+            return Err(TurfError::TooDense {
+                placed: bases.len(),
+                wanted,
+            });
+        };
+        bases.push((base, radius));
+        let length = (ln_mu + ln_sigma2.sqrt() * normal(&mut rng)).exp();
+        let (tx, ty) = (
+            p.tilt_spread * normal(&mut rng),
+            p.tilt_spread * normal(&mut rng),
+        );
+        let tilt = tx.hypot(ty).min(MAX_TILT);
+        let azimuth = ty.atan2(tx);
+        let dir = [
+            tilt.sin() * azimuth.cos(),
+            tilt.sin() * azimuth.sin(),
+            tilt.cos(),
+        ];
+        let wave_dir = rng.random::<f64>() * 2.0 * PI;
+        let phase = rng.random::<f64>() * 2.0 * PI;
+        let n = (length / p.segment_length).ceil().max(2.0) as usize;
+        let nodes = (0..=n)
+            .map(|k| {
+                let s = length * k as f64 / n as f64;
+                let w =
+                    p.wave_amplitude * ((2.0 * PI * s / p.wave_length + phase).sin() - phase.sin());
+                [
+                    base[0] + s * dir[0] + w * wave_dir.cos(),
+                    base[1] + s * dir[1] + w * wave_dir.sin(),
+                    s * dir[2],
+                ]
+            })
+            .collect();
+        tubes.push(Tube {
+            nodes,
+            radius_outer: radius,
+            radius_inner: p.radius_inner * radius / p.radius_outer,
+        });
+    }
+    Ok(Turf {
+        tubes,
+        periodic: PeriodicBox {
+            lx: Some(p.box_x),
+            ly: Some(p.box_y),
+        },
+    })
+}
+
+/// The energy balance of a relaxed turf (seed eq. 1.1): E = U − Γ, with U the elastic (bending
+/// and stretching) energy and Γ the contact energy, Γ = −(van der Waals energy) > 0 when
+/// tubes adhere. All in aJ.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EnergyBalance {
+    /// elastic energy U, aJ
+    pub elastic: f64,
+    /// contact energy Γ, aJ
+    pub contact: f64,
+    /// total E = U − Γ, aJ
+    pub total: f64,
+}
+
+impl EnergyBalance {
+    /// From the elastic energy and the van der Waals energy (both aJ).
+    pub fn new(elastic: f64, vdw: f64) -> Self {
+        EnergyBalance {
+            elastic,
+            contact: -vdw,
+            total: elastic + vdw,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn same_seed_same_turf_other_seed_other_turf() {
+        let p = TurfParams::default();
+        let a = generate_turf(&p).unwrap();
+        assert_eq!(a, generate_turf(&p).unwrap());
+        let b = generate_turf(&TurfParams { seed: 2, ..p }).unwrap();
+        assert_ne!(a.coordinates(), b.coordinates());
+    }
+
+    #[test]
+    fn tubes_start_on_the_substrate_inside_the_box_without_overlapping_bases() {
+        let p = TurfParams {
+            density: 2e-4,
+            radius_cv: 0.2,
+            ..TurfParams::default()
+        };
+        let t = generate_turf(&p).unwrap();
+        assert_eq!(t.tubes.len(), 200);
+        for (i, a) in t.tubes.iter().enumerate() {
+            let b = a.nodes[0];
+            assert!(
+                b[2] == 0.0 && (0.0..p.box_x).contains(&b[0]) && (0.0..p.box_y).contains(&b[1])
+            );
+            assert!(a.nodes.iter().all(|n| n[2] >= 0.0));
+            assert!(a.nodes.windows(2).all(|w| w[1][2] > w[0][2]), "tubes rise");
+            for c in &t.tubes[..i] {
+                let d = c.nodes[0];
+                let wrap = |v: f64, l: f64| v - l * (v / l).round();
+                let dist = wrap(b[0] - d[0], p.box_x).hypot(wrap(b[1] - d[1], p.box_y));
+                assert!(dist >= a.radius_outer + c.radius_outer + BASE_GAP - 1e-9);
+            }
+        }
+        assert_eq!(t.clamped_nodes().len(), 2 * t.tubes.len());
+        assert_eq!(
+            t.coordinates().len(),
+            3 * t.layout().iter().map(|l| l.nodes).sum::<usize>()
+        );
+    }
+
+    #[test]
+    fn length_and_tilt_statistics_follow_the_parameters() {
+        let p = TurfParams {
+            density: 1e-3,
+            box_x: 2000.0,
+            box_y: 2000.0,
+            radius_outer: 5.0,
+            radius_inner: 4.0,
+            length_cv: 0.3,
+            tilt_spread: 0.1,
+            wave_amplitude: 0.0,
+            ..TurfParams::default()
+        };
+        let t = generate_turf(&p).unwrap();
+        let n = t.tubes.len() as f64;
+        let lengths: Vec<f64> = t
+            .tubes
+            .iter()
+            .map(|tube| {
+                let (a, b) = (tube.nodes[0], *tube.nodes.last().unwrap());
+                ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
+            })
+            .collect();
+        let mean = lengths.iter().sum::<f64>() / n;
+        let sd = (lengths.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / n).sqrt();
+        // 4000 samples: standard error of the mean 0.3/√4000 ≈ 0.5 %; 3 % is > 5 standard errors
+        assert!((mean / p.length_mean - 1.0).abs() < 0.03, "mean {mean}");
+        assert!(
+            (sd / mean / p.length_cv - 1.0).abs() < 0.1,
+            "cv {}",
+            sd / mean
+        );
+        // straight tubes: tilt² = tx² + ty², so <tilt²> = 2 spread²
+        let mean_tilt2 = t
+            .tubes
+            .iter()
+            .map(|tube| {
+                let (a, b) = (tube.nodes[0], tube.nodes[1]);
+                let h = (b[0] - a[0]).hypot(b[1] - a[1]);
+                h.atan2(b[2] - a[2]).powi(2)
+            })
+            .sum::<f64>()
+            / n;
+        assert!(
+            (mean_tilt2 / (2.0 * 0.01) - 1.0).abs() < 0.1,
+            "tilt² {mean_tilt2}"
+        );
+    }
+
+    #[test]
+    fn impossible_densities_and_bad_parameters_are_errors() {
+        let dense = TurfParams {
+            density: 1e-2,
+            ..TurfParams::default()
+        };
+        assert!(matches!(
+            generate_turf(&dense),
+            Err(TurfError::TooDense { .. })
+        ));
+        let bad = TurfParams {
+            radius_inner: 30.0,
+            ..TurfParams::default()
+        };
+        assert!(matches!(
+            generate_turf(&bad),
+            Err(TurfError::InvalidParameter { .. })
+        ));
+    }
+
+    #[test]
+    fn energy_balance_signs() {
+        let b = EnergyBalance::new(3.0, -5.0);
+        assert_eq!((b.contact, b.total), (5.0, -2.0));
+    }
+}
