@@ -92,7 +92,8 @@ mod tests {
             // series: (a/2)ln((R+a)/(R−a)) = a²/R (1 + (a/R)²/3 + (a/R)⁴/5 + …)
             let x = a / r;
             let series = para * (1.0 + x * x / 3.0 + x.powi(4) / 5.0);
-            assert!((exact - series).abs() < 1e-6 * x.powi(6) * para + TOL * para);
+            // remainder of the series: Σ_{k≥3} x^(2k)/(2k+1) < x⁶/6 for x ≤ 0.1
+            assert!((exact - series).abs() < x.powi(6) / 6.0 * para + TOL * para);
         }
         assert!(sphere_depth(1000.0, r).is_err());
     }

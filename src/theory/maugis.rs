@@ -62,6 +62,8 @@ pub struct MaugisPoint {
     pub a_bar: f64,
     /// m = c/a ≥ 1, the outer radius of the Dugdale zone over the contact radius
     pub m: f64,
+    /// m − 1, held separately: it is ~1/(λ²ā) and would lose its digits in m at large λ
+    pub m_minus_one: f64,
     /// load P̄
     pub p_bar: f64,
     /// approach δ̄
@@ -198,6 +200,7 @@ fn finish(lambda: f64, a_bar: f64, y: f64, iterations: usize) -> MaugisPoint {
     MaugisPoint {
         a_bar,
         m,
+        m_minus_one: em,
         p_bar: a_bar.powi(3) - lambda * a_bar * a_bar * (s + m * m * s.atan()),
         delta_bar: a_bar * a_bar - 4.0 / 3.0 * lambda * a_bar * s,
         iterations,
@@ -314,9 +317,13 @@ mod tests {
         for lambda in [1e-3, 0.1, 1.0, 10.0, 1e3] {
             for a in [1e-6, 1e-3, 0.1, 1.0, 3.9] {
                 let pt = point(lambda, a, &p).unwrap();
-                let y = (pt.m - 1.0).ln();
-                // F is evaluated in f64 with terms of order 1: round-off ~1e-15
-                assert!(residual(lambda, a, y).0.abs() < 1e-12, "λ={lambda} ā={a}");
+                let y = pt.m_minus_one.ln();
+                // Newton stops at |Δy| < 1e-13(1+|y|): |F| ≤ |dF/dy|·|Δy| plus round-off
+                let (f, df) = residual(lambda, a, y);
+                assert!(
+                    f.abs() < 1e-12 * (1.0 + y.abs()) * df.abs() + 1e-14,
+                    "λ={lambda} ā={a}: {f}"
+                );
                 assert!(pt.m >= 1.0);
             }
         }
