@@ -16,6 +16,9 @@ use std::fmt;
 /// The smallest number of points accepted (a 3-parameter fit needs a few more than 3).
 pub const MIN_POINTS: usize = 6;
 
+/// Largest negative stress accepted, as a fraction of the peak (noise about zero).
+pub const NEGATIVE_NOISE: f64 = 0.05;
+
 /// A compressive nominal stress–strain curve, internal units.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StressStrainCurve {
@@ -216,7 +219,8 @@ impl StressStrainCurve {
     }
 
     /// Check: at least [`MIN_POINTS`] points, equal lengths, finite values, strain strictly
-    /// increasing within [0, 1), compressive (non-negative) stress, lateral strain > −1.
+    /// increasing within [0, 1), compressive stress (positive peak; points below zero by at most
+    /// [`NEGATIVE_NOISE`] of the peak, as noise), lateral strain > −1.
     pub fn validate(&self, src: &str) -> Result<(), CurveError> {
         let n = self.strain.len();
         if self.stress.len() != n || self.lateral_strain.as_ref().is_some_and(|l| l.len() != n) {
@@ -247,7 +251,18 @@ impl StressStrainCurve {
                 ),
             ));
         }
-        if let Some(i) = self.stress.iter().position(|&s| s < 0.0) {
+        // Noise may dip a point near the origin below zero; a curve that is mostly or strongly
+        // negative has the opposite sign convention.
+        let peak = self
+            .stress
+            .iter()
+            .cloned()
+            .fold(f64::NEG_INFINITY, f64::max);
+        if let Some(i) = self
+            .stress
+            .iter()
+            .position(|&s| peak <= 0.0 || s < -NEGATIVE_NOISE * peak)
+        {
             return Err(err(
                 src,
                 format!(

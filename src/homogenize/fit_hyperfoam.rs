@@ -246,7 +246,11 @@ fn combinations(grid: &[f64], n: usize) -> Vec<Vec<f64>> {
     out
 }
 
-/// μ for fixed α by linear least squares (Σμ pinned when asked); `None` unless all μᵢ > 0.
+/// Smallest share of the mean μ a start term gets when the linear optimum is not positive.
+const START_MU_FLOOR: f64 = 1e-3;
+
+/// μ for fixed α by linear least squares (Σμ pinned when asked, then only approximately when a
+/// term had to be clamped); `None` when Σμ ≤ 0.
 fn linear_mu(
     strain: &[f64],
     stress: &[f64],
@@ -277,9 +281,14 @@ fn linear_mu(
             }
         }
     };
-    if mu.iter().any(|&x| !(x > 0.0 && x.is_finite())) {
+    // A negative μᵢ is clamped to a small positive share (the nonlinear fit then decides):
+    // a start must exist even when the unconstrained optimum leaves the admissible set.
+    let total: f64 = mu.iter().sum();
+    if !(total > 0.0 && total.is_finite()) {
         return None;
     }
+    let floor = START_MU_FLOOR * total / n as f64;
+    let mu: Vec<f64> = mu.iter().map(|&x| x.max(floor)).collect();
     let r = b * DVector::from_column_slice(&mu) - y;
     Some((mu, r.norm_squared()))
 }
