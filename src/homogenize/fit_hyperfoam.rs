@@ -405,7 +405,20 @@ pub fn fit_hyperfoam(
     let (r, _) = problem.eval(&mu, &alpha, false);
     let norm = stress.iter().map(|x| x * x).sum::<f64>().sqrt();
     let peak = stress.iter().cloned().fold(0.0, f64::max);
-    let warnings = stability_warnings(&material, params.strain_max);
+    let mut warnings = stability_warnings(&material, params.strain_max);
+    for i in 0..n {
+        for j in i + 1..n {
+            if (alpha[i] / alpha[j] - 1.0).abs() < DEGENERATE_ALPHA {
+                warnings.push(format!(
+                    "terms {} and {} have nearly equal alpha ({:.4}, {:.4}): the data support fewer than {n} terms",
+                    i + 1,
+                    j + 1,
+                    alpha[i],
+                    alpha[j]
+                ));
+            }
+        }
+    }
     Ok(HyperfoamFit {
         material,
         nu,
@@ -418,6 +431,9 @@ pub fn fit_hyperfoam(
         info,
     })
 }
+
+/// Relative difference below which two fitted α count as one term (degenerate fit).
+const DEGENERATE_ALPHA: f64 = 1e-3;
 
 /// Stretch samples of the stability check over the fitted range.
 const STABILITY_SAMPLES: usize = 50;
