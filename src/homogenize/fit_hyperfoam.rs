@@ -218,7 +218,12 @@ impl Problem for UniaxialProblem<'_> {
     }
     fn residuals(&self, p: &[f64]) -> Option<DVector<f64>> {
         let (mu, alpha, _) = self.layout.unpack(p);
-        Some(self.eval(&mu, &alpha, false).0)
+        let total: f64 = mu.iter().sum();
+        let admissible = alpha
+            .iter()
+            .all(|a| (ALPHA_RANGE.0..=ALPHA_RANGE.1).contains(a))
+            && mu.iter().all(|&m| m >= MU_SHARE_MIN * total);
+        admissible.then(|| self.eval(&mu, &alpha, false).0)
     }
     fn jacobian(&self, p: &[f64]) -> DMatrix<f64> {
         let (mu, alpha, g) = self.layout.unpack(p);
@@ -245,6 +250,18 @@ fn combinations(grid: &[f64], n: usize) -> Vec<Vec<f64>> {
     }
     out
 }
+
+/// Admissible α during the fit: beyond these a term is numerically a step function or a
+/// constant, and the fit would run away (α → ∞ with μ → 0) instead of converging.
+const ALPHA_RANGE: (f64, f64) = (1e-2, 1e3);
+/// Smallest share of Σμ a term may take during the fit (a vanishing term is degenerate).
+const MU_SHARE_MIN: f64 = 1e-8;
+
+/// Share of Σμ below which a fitted term is reported as negligible.
+const NEGLIGIBLE_SHARE: f64 = 1e-4;
+
+/// Share of Σμ given to the new term of a nested start.
+const NESTED_SHARE: f64 = 1e-3;
 
 /// Smallest share of the mean μ a start term gets when the linear optimum is not positive.
 const START_MU_FLOOR: f64 = 1e-3;
@@ -288,7 +305,11 @@ fn linear_mu(
         return None;
     }
     let floor = START_MU_FLOOR * total / n as f64;
-    let mu: Vec<f64> = mu.iter().map(|&x| x.max(floor)).collect();
+    let mut mu: Vec<f64> = mu.iter().map(|&x| x.max(floor)).collect();
+    if let Some(total) = mu_sum {
+        let sum: f64 = mu.iter().sum();
+        mu.iter_mut().for_each(|x| *x *= total / sum);
+    }
     let r = b * DVector::from_column_slice(&mu) - y;
     Some((mu, r.norm_squared()))
 }
@@ -377,35 +398,93 @@ pub fn fit_hyperfoam(
             }
         }
     }
-    let (mu0, alpha0, _) = best.ok_or_else(|| {
-        FitError::Invalid(format!(
-            "no combination of {n} positive terms describes the data (is the curve compressive and stiffening?)"
-        ))
-    })?;
     let problem = UniaxialProblem {
         strain: &strain,
         stress: &stress,
         nu,
         layout,
     };
-    let (p, info) = lsq::solve(&problem, &layout.pack(&mu0, &alpha0), &params.solver)?;
+    // Nested start: the (N−1)-term fit plus a small new term at each grid α, so that adding a
+    // term never starts worse than the fit with one term fewer.
+    let fewer = if n > 1 {
+        Some(fit_hyperfoam(
+            curve,
+            &HyperfoamFitParams {
+                terms: n - 1,
+                ..*params
+            },
+        )?)
+    } else {
+        None
+    };
+    if let Some(f) = &fewer {
+        let (mu_prev, alpha_prev) = (f.material.mu(), f.material.alpha());
+        let total: f64 = mu_prev.iter().sum();
+        for &a in &alpha_grid() {
+            let mut mu: Vec<f64> = mu_prev.iter().map(|m| m * (1.0 - NESTED_SHARE)).collect();
+            mu.push(NESTED_SHARE * total);
+            let mut alpha = alpha_prev.clone();
+            alpha.push(a);
+            if let Some(r) = problem.residuals(&layout.pack(&mu, &alpha)) {
+                let cost = r.norm_squared();
+                if best.as_ref().is_none_or(|b| cost < b.2) {
+                    best = Some((mu, alpha, cost));
+                }
+            }
+        }
+    }
+    let (mu0, alpha0, _) = best.ok_or_else(|| {
+        FitError::Invalid(format!(
+            "no combination of {n} positive terms describes the data (is the curve compressive and stiffening?)"
+        ))
+    })?;
+    let (p, info) = match lsq::solve(&problem, &layout.pack(&mu0, &alpha0), &params.solver) {
+        Ok(x) => x,
+        Err(lsq::Error::NoConvergence { iterations, .. }) if fewer.is_some() => {
+            // degenerate valleys (two terms merging) converge slowly: keep the converged
+            // (N−1)-term fit and say so
+            let mut f = fewer.expect("checked");
+            f.warnings.push(format!(
+                "the {n}-term fit did not converge in {iterations} iterations (the data do not support {n} terms): the {}-term fit is returned",
+                n - 1
+            ));
+            return Ok(f);
+        }
+        Err(e) => return Err(e.into()),
+    };
     let (mu, alpha, g) = layout.unpack(&p);
     let beta = beta_from_nu(nu);
     let material = Hyperfoam::new(&mu, &alpha, &vec![beta; n])
         .map_err(|e| FitError::Invalid(e.to_string()))?;
-    let std_errors = info.covariance.as_ref().map(|cov| {
+    let std_errors = info.covariance.as_ref().and_then(|cov| {
         let ct = &g * cov * g.transpose();
         let se = |k: usize| ct[(k, k)].max(0.0).sqrt();
-        HyperfoamStdErrors {
+        let e = HyperfoamStdErrors {
             mu: (0..n).map(se).collect(),
             alpha: (0..n).map(|i| se(n + i)).collect(),
             beta: nu_se / (1.0 - 2.0 * nu).powi(2),
-        }
+        };
+        let finite =
+            e.mu.iter()
+                .chain(&e.alpha)
+                .chain([&e.beta])
+                .all(|x| x.is_finite());
+        finite.then_some(e)
     });
     let (r, _) = problem.eval(&mu, &alpha, false);
     let norm = stress.iter().map(|x| x * x).sum::<f64>().sqrt();
     let peak = stress.iter().cloned().fold(0.0, f64::max);
     let mut warnings = stability_warnings(&material, params.strain_max);
+    let mu_total: f64 = mu.iter().sum();
+    for (i, m) in mu.iter().enumerate() {
+        if n > 1 && *m < NEGLIGIBLE_SHARE * mu_total {
+            warnings.push(format!(
+                "term {} carries {:.1e} of sum(mu): the data support fewer than {n} terms",
+                i + 1,
+                m / mu_total
+            ));
+        }
+    }
     for i in 0..n {
         for j in i + 1..n {
             if (alpha[i] / alpha[j] - 1.0).abs() < DEGENERATE_ALPHA {
