@@ -1,12 +1,157 @@
 //! `turf homogenize`: material cards from curves or tangent laws.
 
 use clap::Args;
+use std::path::PathBuf;
+use turf::homogenize::{self, tangent_law::TangentLaw, HomogenizeParams, Relaxation, Source};
+use turf::units::{parse_quantity, Dimension};
 
 /// Arguments of `turf homogenize`.
 #[derive(Args)]
-pub struct HomogenizeArgs {}
+pub struct HomogenizeArgs {
+    /// The idealised tangent law (5.1), e.g. E0=700MPa,Einf=70MPa,eps0=0.05.
+    #[arg(
+        long,
+        value_name = "E0=..,Einf=..,eps0=..",
+        conflicts_with = "curve",
+        required_unless_present = "curve"
+    )]
+    pub tangent_law: Option<String>,
+    /// A compressive stress-strain curve (CSV: strain, stress_MPa|stress_GPa|..., optional lateral_strain).
+    #[arg(long, value_name = "CSV")]
+    pub curve: Option<PathBuf>,
+    /// Hyperfoam terms N (1 to 3).
+    #[arg(long, default_value_t = 1)]
+    pub terms: usize,
+    /// Upper end of the fitted nominal compressive strain (default 0.3: reproduces seed Table 5.1).
+    #[arg(long, default_value_t = homogenize::fit_hyperfoam::DEFAULT_STRAIN_MAX)]
+    pub strain_max: f64,
+    /// Points at which a tangent law is sampled.
+    #[arg(long, default_value_t = homogenize::DEFAULT_SAMPLES)]
+    pub samples: usize,
+    /// Hold the hyperfoam's initial modulus at the tangent law's E0 (default: yes for
+    /// --tangent-law, no for --curve).
+    #[arg(long, value_name = "BOOL")]
+    pub pin_e0: Option<bool>,
+    /// One-term relaxation (5.8), e.g. mu_bar=0.4,tau=3s.
+    #[arg(
+        long,
+        value_name = "mu_bar=..,tau=..",
+        conflicts_with = "relaxation_curve"
+    )]
+    pub relaxation: Option<String>,
+    /// A relaxation curve to fit a Prony series to (CSV: time_s and g or a stress column).
+    #[arg(long, value_name = "CSV")]
+    pub relaxation_curve: Option<PathBuf>,
+    /// Prony terms fitted to --relaxation-curve.
+    #[arg(long, default_value_t = 1)]
+    pub prony_terms: usize,
+    /// Output folder (default runs/homogenize).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_relaxation(text: &str) -> anyhow::Result<Relaxation> {
+    let (mut mu_bar, mut tau) = (None, None);
+    for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let (k, v) = item.split_once('=').ok_or_else(|| {
+            anyhow::anyhow!("--relaxation: \"{item}\" is not KEY=VALUE (mu_bar, tau)")
+        })?;
+        match k.trim() {
+            "mu_bar" => mu_bar = Some(parse_quantity(v, Dimension::Dimensionless)?),
+            "tau" => tau = Some(parse_quantity(v, Dimension::Time)?),
+            other => anyhow::bail!("--relaxation: unknown key \"{other}\" (mu_bar, tau)"),
+        }
+    }
+    Ok(Relaxation::Law {
+        mu_bar: mu_bar.ok_or_else(|| anyhow::anyhow!("--relaxation: missing mu_bar"))?,
+        tau: tau.ok_or_else(|| anyhow::anyhow!("--relaxation: missing tau"))?,
+    })
+}
 
 /// `turf homogenize`.
-pub fn run(_args: HomogenizeArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`turf homogenize` is not built yet")
+pub fn run(args: HomogenizeArgs) -> anyhow::Result<()> {
+    let source = match (&args.tangent_law, &args.curve) {
+        (Some(t), None) => Source::TangentLaw(TangentLaw::parse(t)?),
+        (None, Some(p)) => Source::Curve {
+            curve: homogenize::read_curve(p)?,
+            name: p.display().to_string(),
+        },
+        _ => anyhow::bail!("give exactly one of --tangent-law or --curve"),
+    };
+    let mut params = HomogenizeParams::new(source);
+    params.terms = args.terms;
+    params.strain_max = args.strain_max;
+    params.samples = args.samples;
+    params.pin_initial_modulus = args.pin_e0;
+    params.relaxation = match (&args.relaxation, &args.relaxation_curve) {
+        (Some(r), _) => Some(parse_relaxation(r)?),
+        (None, Some(p)) => Some(Relaxation::Curve {
+            curve: homogenize::read_relaxation(p)?,
+            name: p.display().to_string(),
+            terms: args.prony_terms,
+        }),
+        (None, None) => None,
+    };
+    let out = homogenize::run(&params)?;
+    let dir = args.out.unwrap_or_else(homogenize::default_out_dir);
+    let summary = homogenize::write_outputs(&out, &dir)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+        return Ok(());
+    }
+    let m = &out.hyperfoam_fit.material;
+    let law = out.tangent_law;
+    println!(
+        "tangent law (5.1): E0 = {:.6} MPa, Einf = {:.6} MPa, eps0 = {:.6}{}",
+        law.e0 * 1e3,
+        law.e_inf * 1e3,
+        law.eps0,
+        if out.tangent_fit.is_some() {
+            " (fitted)"
+        } else {
+            ""
+        }
+    );
+    if let Some(se) = out.tangent_fit.as_ref().and_then(|f| f.std_errors) {
+        println!(
+            "  std errors: E0 ± {:.4} MPa, Einf ± {:.4} MPa, eps0 ± {:.4e}",
+            se[0] * 1e3,
+            se[1] * 1e3,
+            se[2]
+        );
+    }
+    println!(
+        "hyperfoam N = {} on 0 < strain <= {} ({} points), nu = {:.4}:",
+        m.terms.len(),
+        out.hyperfoam_fit.strain_max,
+        out.hyperfoam_fit.points,
+        out.hyperfoam_fit.nu
+    );
+    for (i, t) in m.terms.iter().enumerate() {
+        let se = out.hyperfoam_fit.std_errors.as_ref();
+        println!(
+            "  term {}: mu = {:.6} MPa{}, alpha = {:.6}{}, beta = {:.6}",
+            i + 1,
+            t.mu * 1e3,
+            se.map_or(String::new(), |s| format!(" ± {:.3e}", s.mu[i] * 1e3)),
+            t.alpha,
+            se.map_or(String::new(), |s| format!(" ± {:.3e}", s.alpha[i])),
+            t.beta
+        );
+    }
+    println!(
+        "  fit rms (relative) = {:.3e}, max = {:.3e}",
+        out.hyperfoam_fit.rms_rel, out.hyperfoam_fit.max_rel
+    );
+    if let Some(p) = &out.card.prony {
+        println!("prony: g = {:?}, k = {:?}, tau = {:?} s", p.g, p.k, p.tau);
+    }
+    for w in &out.hyperfoam_fit.warnings {
+        println!("warning: {w}");
+    }
+    println!("wrote {} ({})", dir.display(), summary.files.join(", "));
+    Ok(())
 }

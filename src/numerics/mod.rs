@@ -2,5 +2,7 @@
 //!
 //! - [`sparse`]: sparse symmetric positive-definite (Cholesky) and general (LU) solves through
 //!   faer, with the symbolic analysis computed once per sparsity pattern and reused.
+//! - [`least_squares`]: Levenberg–Marquardt with the covariance of the estimate.
 
+pub mod least_squares;
 pub mod sparse;
