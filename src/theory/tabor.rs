@@ -5,7 +5,7 @@
 //! - Maugis (seed 3.10): λ = σ₀ (9R/(2πγE\*²))^(1/3), with σ₀ the Dugdale stress. Here σ₀ is
 //!   always taken from the force law actually used, σ₀ = −min p ([`SurfaceLaw::max_tension`]),
 //!   so λ/μ = (σ₀z₀/γ)(9/(2π))^(1/3) depends only on the law's shape: 1.1573 for LJ 9-3
-//!   (σ₀ = 16γ/(9√3 z₀)), 1.1572... for LJ 10-4 is printed by [`lambda_per_mu`].
+//!   (σ₀ = 16γ/(9√3 z₀)), about 1.65 for LJ 10-4 ([`lambda_per_mu`]).
 //!
 //! Units: R, z₀ in nm; E\*, σ₀ in GPa; γ in J/m².
 
