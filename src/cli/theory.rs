@@ -39,6 +39,22 @@ enum TheoryCommand {
     Micromech(MicromechArgs),
     /// The quasi-rheological indentation law under a load–hold–unload schedule (seed 2.1–2.7).
     IndentationLaw(IndentationLawArgs),
+    /// Pull-off of an elastic half-space with LJ tractions (numerical, small strain), with its
+    /// grid-refinement error estimate and cost.
+    Halfspace(HalfspaceArgs),
+}
+
+#[derive(Args)]
+struct HalfspaceArgs {
+    /// Tabor's μ = (Rγ²/(E*² z₀³))^(1/3)
+    #[arg(long)]
+    mu: String,
+    /// the surface law
+    #[arg(long, value_enum, default_value = "lj93")]
+    law: LawName,
+    /// print JSON
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -256,6 +272,7 @@ pub fn run(args: TheoryArgs) -> anyhow::Result<()> {
         TheoryCommand::Thermal(a) => (thermal(&a)?, a.json),
         TheoryCommand::Micromech(a) => (micromech(&a)?, a.json),
         TheoryCommand::IndentationLaw(a) => (indentation_law(&a)?, a.json),
+        TheoryCommand::Halfspace(a) => (halfspace(&a)?, a.json),
     };
     if json {
         println!("{}", serde_json::to_string_pretty(&value)?);
@@ -311,6 +328,35 @@ fn pulloff(a: &PulloffArgs) -> anyhow::Result<Value> {
         "lambda": lambda,
         "mu": mu,
         "pull_off_normalized": p,
+    }))
+}
+
+fn halfspace(a: &HalfspaceArgs) -> anyhow::Result<Value> {
+    let mu = positive("μ", quantity("mu", &a.mu, Dimension::Dimensionless)?)?;
+    let kind = LjKind::from(a.law);
+    let problem = turf::halfspace::Problem::scaled(mu, kind)?;
+    let p = turf::halfspace::pull_off(&problem, &turf::halfspace::HalfspaceParams::default())
+        .context("half-space pull-off")?;
+    let levels: Vec<Value> = p
+        .levels
+        .iter()
+        .map(|l| json!({"nodes": l.nodes, "pull_off_normalized": l.pull_off, "wall_time_s": l.wall_time}))
+        .collect();
+    Ok(json!({
+        "model": "halfspace",
+        "law": match kind { LjKind::Lj93 => "lj93", LjKind::Lj104 => "lj104" },
+        "mu": mu,
+        "lambda": mu * tabor::lambda_per_mu(kind),
+        "pull_off_normalized": p.normalized,
+        "error_estimate": p.error_estimate,
+        "contact_radius_scaled": p.contact_radius,
+        "levels": levels,
+        "cost": {
+            "newton_iterations": p.cost.newton_iterations,
+            "solves": p.cost.solves,
+            "max_nodes": p.cost.max_nodes,
+            "wall_time_s": p.cost.wall_time,
+        },
     }))
 }
 

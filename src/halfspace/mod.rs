@@ -76,6 +76,20 @@ impl Traction for LennardJones {
     }
 }
 
+impl Traction for crate::laws::SurfaceLaw {
+    fn pressure_stiffness(&self, h: f64) -> (f64, f64) {
+        let (_, p, k) = self.eval(h);
+        (p, k)
+    }
+    fn work_of_adhesion(&self) -> f64 {
+        self.gamma()
+    }
+    /// The shifted law keeps the repulsive core, so p still vanishes at the base law's z₀.
+    fn equilibrium_gap(&self) -> f64 {
+        self.z0()
+    }
+}
+
 /// A sphere against a half-space with a surface law.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Problem<T: Traction = LennardJones> {
