@@ -1,1 +1,485 @@
-//! From a scene to results: runs the stages the scene's plan asks for, in order, and reports.
+//! From a scene to results: runs the stages of the scene's [`Plan`](crate::scene::Plan) in
+//! order, times each one and counts its evaluations, and writes `summary.json` and the CSV
+//! curves into the output folder through [`crate::report`] (atomically, NaN refused).
+//!
+//! Each stage is one engine behind one function `fn run_<stage>(&ResolvedScene, &StageContext)
+//! -> Result<StageOutput, StageError>`, plugged in by one arm of [`run_stage`]. A stage whose
+//! engine is not in this build is an error naming the stage, never a placeholder result. A run
+//! that fails midway keeps what it finished: `summary.json` is rewritten after every stage and
+//! records the stages done and the error.
+//!
+//! `summary.json`: `turf_version`, `file`, `units` (the internal units), `scene` (the fully
+//! resolved scene in internal units), `derived`, `plan`, then either `stages` (one record per
+//! stage run: `stage`, `wall_time_s`, `evaluations`, `values`, `files`) or, for a `[sweep]`,
+//! `sweep` (`key` and one entry per value with its own `derived` and `stages`), and `error`
+//! when the run stopped early (`complete` says whether every stage ran).
+
+use crate::report::{csv::Table, write_json, ReportError};
+use crate::scene::{Loaded, ResolvedScene, Stage};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What a stage sees besides the scene.
+pub struct StageContext<'a> {
+    /// the folder the stage writes its files into
+    pub out_dir: &'a Path,
+    /// the stages already run for this scene, with their results (for hand-overs such as the
+    /// discrete curve to the homogenize stage)
+    pub previous: &'a [StageRecord],
+}
+
+/// What a stage returns: its answer and its cost.
+#[derive(Debug, Default)]
+pub struct StageOutput {
+    /// headline numbers, each name carrying its unit (`pull_off_normalised`, `max_load_nN`)
+    pub values: BTreeMap<String, f64>,
+    /// curves, written by the pipeline as `<stage>_<name>.csv`
+    pub tables: Vec<(String, Table)>,
+    /// evaluations of the stage's kernel (residuals, energies, closed forms), its cost measure
+    pub evaluations: u64,
+    /// other files the stage wrote (plots, VTK, cards), relative to the output folder
+    pub files: Vec<PathBuf>,
+}
+
+/// Why a stage did not give an answer.
+#[derive(Debug, thiserror::Error)]
+pub enum StageError {
+    /// the engine is not integrated into this build
+    #[error("stage '{0}' is not available in this build")]
+    NotAvailable(Stage),
+    /// the engine ran and failed (did not converge, ...)
+    #[error("stage '{stage}' failed: {message}")]
+    Failed {
+        /// the stage
+        stage: Stage,
+        /// the engine's diagnostics
+        message: String,
+    },
+    /// the stage's results could not be written
+    #[error("stage '{stage}': {source}")]
+    Report {
+        /// the stage
+        stage: Stage,
+        /// the cause
+        source: ReportError,
+    },
+}
+
+/// One finished stage, as recorded in `summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct StageRecord {
+    /// the stage
+    pub stage: Stage,
+    /// wall-clock time of the stage, s
+    pub wall_time_s: f64,
+    /// evaluations of the stage's kernel
+    pub evaluations: u64,
+    /// headline numbers, names carrying units
+    pub values: BTreeMap<String, f64>,
+    /// files written, relative to the output folder
+    pub files: Vec<String>,
+}
+
+/// Run the engine of `stage`. Each engine plugs in as one arm `Stage::X => run_x(scene, ctx)`;
+/// the stages listed together below have no engine in this build yet.
+pub fn run_stage(
+    stage: Stage,
+    scene: &ResolvedScene,
+    ctx: &StageContext,
+) -> Result<StageOutput, StageError> {
+    let _ = (scene, ctx);
+    match stage {
+        Stage::Theory
+        | Stage::Halfspace
+        | Stage::Discrete
+        | Stage::Homogenize
+        | Stage::Continuum => Err(StageError::NotAvailable(stage)),
+    }
+}
+
+/// Options of a run.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// output folder (default: `[output] dir`, else `runs/<scene name>`)
+    pub out: Option<PathBuf>,
+    /// show a progress bar on the terminal
+    pub progress: bool,
+}
+
+/// The internal units, echoed in `summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Units {
+    /// length unit
+    pub length: &'static str,
+    /// force unit
+    pub force: &'static str,
+    /// time unit
+    pub time: &'static str,
+    /// stress unit
+    pub stress: &'static str,
+    /// energy unit
+    pub energy: &'static str,
+    /// surface energy unit
+    pub surface_energy: &'static str,
+    /// temperature unit
+    pub temperature: &'static str,
+}
+
+const UNITS: Units = Units {
+    length: "nm",
+    force: "nN",
+    time: "s",
+    stress: "GPa",
+    energy: "aJ",
+    surface_energy: "J/m^2",
+    temperature: "K",
+};
+
+/// One swept value and what ran for it.
+#[derive(Debug, Clone, Serialize)]
+pub struct PointSummary {
+    /// the swept key's value
+    pub value: toml::Value,
+    /// the point's sub-folder, relative to the output folder
+    pub dir: String,
+    /// the point's derived numbers
+    pub derived: crate::scene::Derived,
+    /// the stages run
+    pub stages: Vec<StageRecord>,
+}
+
+/// The `[sweep]` part of the summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct SweepSummary {
+    /// the swept key
+    pub key: String,
+    /// one entry per value run
+    pub points: Vec<PointSummary>,
+}
+
+/// The content of `summary.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// the turf version that ran
+    pub turf_version: &'static str,
+    /// the scene file
+    pub file: String,
+    /// the internal units of every number
+    pub units: Units,
+    /// the fully resolved scene, internal units
+    pub scene: serde_json::Value,
+    /// derived numbers
+    pub derived: crate::scene::Derived,
+    /// the plan
+    pub plan: crate::scene::Plan,
+    /// the stages run (without a sweep)
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stages: Vec<StageRecord>,
+    /// the sweep points run
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<SweepSummary>,
+    /// whether every stage ran
+    pub complete: bool,
+    /// why the run stopped early
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+/// What a run produced.
+#[derive(Debug)]
+pub struct RunReport {
+    /// the output folder
+    pub out_dir: PathBuf,
+    /// the summary as written
+    pub summary: Summary,
+    /// the stage failure that stopped the run, if any
+    pub failure: Option<StageError>,
+}
+
+/// Run every stage the scene asks for (once per swept value) with the built-in engines.
+pub fn run(loaded: &Loaded, opts: &RunOptions) -> Result<RunReport, ReportError> {
+    run_with(loaded, opts, &mut run_stage)
+}
+
+/// A stage runner: [`run_stage`], or a stand-in in tests of the pipeline itself.
+pub type Runner<'r> =
+    dyn FnMut(Stage, &ResolvedScene, &StageContext) -> Result<StageOutput, StageError> + 'r;
+
+/// Run the plan with `runner` for each stage. A stage failure stops the run and is returned
+/// in the report (the summary is written first); only a failure to write the summary is `Err`.
+pub fn run_with(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    runner: &mut Runner,
+) -> Result<RunReport, ReportError> {
+    let base = &loaded.base;
+    let out_dir = crate::scene::output_dir(base, opts.out.as_deref());
+    let mut summary = Summary {
+        turf_version: env!("CARGO_PKG_VERSION"),
+        file: base.file.display().to_string(),
+        units: UNITS,
+        scene: serde_json::to_value(&base.scene).map_err(|e| ReportError::Invalid {
+            path: out_dir.join("summary.json").display().to_string(),
+            reason: e.to_string(),
+        })?,
+        derived: base.derived.clone(),
+        plan: base.plan.clone(),
+        stages: Vec::new(),
+        sweep: None,
+        complete: false,
+        error: None,
+    };
+    let summary_path = out_dir.join("summary.json");
+    let points: Vec<(Option<&toml::Value>, &ResolvedScene)> = if loaded.sweep.is_empty() {
+        vec![(None, base)]
+    } else {
+        summary.sweep = Some(SweepSummary {
+            key: base
+                .scene
+                .sweep
+                .as_ref()
+                .map_or(String::new(), |s| s.key.clone()),
+            points: Vec::new(),
+        });
+        loaded
+            .sweep
+            .iter()
+            .map(|p| (Some(&p.value), &p.scene))
+            .collect()
+    };
+    let total: usize = points.iter().map(|(_, s)| s.plan.stages.len()).sum();
+    let bar = opts.progress.then(|| progress_bar(total as u64));
+    let mut failure = None;
+    'points: for (i, (value, scene)) in points.iter().enumerate() {
+        let (dir, rel) = match value {
+            None => (out_dir.clone(), String::new()),
+            Some(_) => {
+                let rel = format!("sweep_{i:03}");
+                (out_dir.join(&rel), rel)
+            }
+        };
+        if let (Some(v), Some(sw)) = (value, summary.sweep.as_mut()) {
+            sw.points.push(PointSummary {
+                value: (*v).clone(),
+                dir: rel.clone(),
+                derived: scene.derived.clone(),
+                stages: Vec::new(),
+            });
+        }
+        let mut done: Vec<StageRecord> = Vec::new();
+        for planned in &scene.plan.stages {
+            let stage = planned.stage;
+            if let Some(b) = &bar {
+                b.set_message(match value {
+                    Some(v) => format!(
+                        "{stage} ({} = {v})",
+                        base.scene.sweep.as_ref().map_or("", |s| s.key.as_str())
+                    ),
+                    None => stage.to_string(),
+                });
+            }
+            let result = run_one(stage, scene, &dir, &done, runner);
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
+            match result {
+                Ok(record) => done.push(record),
+                Err(e) => {
+                    summary.error = Some(e.to_string());
+                    failure = Some(e);
+                }
+            }
+            store(&mut summary, &done, value.is_some());
+            write_json(&summary_path, &summary)?;
+            if failure.is_some() {
+                break 'points;
+            }
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    summary.complete = failure.is_none();
+    write_json(&summary_path, &summary)?;
+    Ok(RunReport {
+        out_dir,
+        summary,
+        failure,
+    })
+}
+
+/// Put the current point's records into the summary.
+fn store(summary: &mut Summary, done: &[StageRecord], swept: bool) {
+    match (
+        swept,
+        summary.sweep.as_mut().and_then(|s| s.points.last_mut()),
+    ) {
+        (true, Some(p)) => p.stages = done.to_vec(),
+        _ => summary.stages = done.to_vec(),
+    }
+}
+
+/// Run one stage, time it and write its tables.
+fn run_one(
+    stage: Stage,
+    scene: &ResolvedScene,
+    dir: &Path,
+    previous: &[StageRecord],
+    runner: &mut Runner,
+) -> Result<StageRecord, StageError> {
+    let ctx = StageContext {
+        out_dir: dir,
+        previous,
+    };
+    let start = Instant::now();
+    let out = runner(stage, scene, &ctx)?;
+    let wall_time_s = start.elapsed().as_secs_f64();
+    if let Some((name, _)) = out.values.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(StageError::Failed {
+            stage,
+            message: format!("the engine returned a non-finite value for {name}"),
+        });
+    }
+    let mut files: Vec<String> = out.files.iter().map(|f| f.display().to_string()).collect();
+    for (name, table) in &out.tables {
+        let file = format!("{stage}_{name}.csv");
+        table
+            .write(&dir.join(&file))
+            .map_err(|source| StageError::Report { stage, source })?;
+        files.push(file);
+    }
+    Ok(StageRecord {
+        stage,
+        wall_time_s,
+        evaluations: out.evaluations,
+        values: out.values,
+        files,
+    })
+}
+
+fn progress_bar(len: u64) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} stages  {msg}",
+    ) {
+        bar.set_style(style);
+    }
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_str;
+
+    const SCENE: &str = r#"
+[scene]
+name = "pipeline-test"
+[indenter]
+radius = "1 um"
+[material]
+model = "linear"
+youngs = "1 GPa"
+poisson = 0.3
+[adhesion]
+gamma = "0.05 J/m^2"
+z0 = "0.34 nm"
+[halfspace]
+depth_max = "2 nm"
+"#;
+
+    fn temp_dir(tag: &str) -> PathBuf {
+        std::env::temp_dir().join(format!("turf-pipeline-{tag}-{}", std::process::id()))
+    }
+
+    #[test]
+    fn a_stage_without_engine_is_an_error_naming_it_and_the_summary_is_kept() {
+        let loaded = load_str(SCENE, Path::new("p.toml"), &[]).unwrap();
+        let dir = temp_dir("na");
+        let opts = RunOptions {
+            out: Some(dir.clone()),
+            progress: false,
+        };
+        let report = run(&loaded, &opts).unwrap();
+        let e = report.failure.expect("no engine is built in");
+        assert_eq!(
+            e.to_string(),
+            "stage 'theory' is not available in this build"
+        );
+        let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(json["complete"], false);
+        assert!(json["error"].as_str().unwrap().contains("theory"));
+        assert_eq!(json["scene"]["indenter"]["radius"], 1000.0);
+        std::fs::remove_dir_all(dir).ok();
+    }
+
+    #[test]
+    fn a_failure_midway_keeps_the_stages_that_finished() {
+        let loaded = load_str(SCENE, Path::new("p.toml"), &[]).unwrap();
+        let dir = temp_dir("midway");
+        let opts = RunOptions {
+            out: Some(dir.clone()),
+            progress: false,
+        };
+        let mut runner = |stage: Stage, _: &ResolvedScene, ctx: &StageContext| match stage {
+            Stage::Theory => {
+                assert!(ctx.previous.is_empty());
+                Ok(StageOutput {
+                    values: BTreeMap::from([("pull_off_normalised".to_string(), -1.7)]),
+                    tables: vec![(
+                        "curve".to_string(),
+                        Table::new().column("depth_nm", vec![0.0, 1.0]),
+                    )],
+                    evaluations: 3,
+                    files: Vec::new(),
+                })
+            }
+            _ => {
+                assert_eq!(ctx.previous.len(), 1);
+                Err(StageError::Failed {
+                    stage,
+                    message: "did not converge".into(),
+                })
+            }
+        };
+        let report = run_with(&loaded, &opts, &mut runner).unwrap();
+        assert!(report.failure.is_some());
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(json["stages"][0]["stage"], "theory");
+        assert_eq!(json["stages"][0]["evaluations"], 3);
+        assert_eq!(json["stages"][0]["values"]["pull_off_normalised"], -1.7);
+        assert_eq!(json["stages"].as_array().unwrap().len(), 1);
+        assert!(json["error"].as_str().unwrap().contains("halfspace"));
+        assert!(dir.join("theory_curve.csv").is_file());
+        std::fs::remove_dir_all(dir).ok();
+    }
+
+    #[test]
+    fn a_nan_from_an_engine_is_refused() {
+        let loaded = load_str(SCENE, Path::new("p.toml"), &[]).unwrap();
+        let dir = temp_dir("nan");
+        let opts = RunOptions {
+            out: Some(dir.clone()),
+            progress: false,
+        };
+        let mut runner = |_: Stage, _: &ResolvedScene, _: &StageContext| {
+            Ok(StageOutput {
+                values: BTreeMap::from([("x".to_string(), f64::NAN)]),
+                ..StageOutput::default()
+            })
+        };
+        let report = run_with(&loaded, &opts, &mut runner).unwrap();
+        assert!(report
+            .failure
+            .unwrap()
+            .to_string()
+            .contains("non-finite value for x"));
+        std::fs::remove_dir_all(dir).ok();
+    }
+}

@@ -1,7 +1,10 @@
 //! `turf run` and `turf check`.
 
 use clap::Args;
+use std::io::IsTerminal;
 use std::path::PathBuf;
+use turf::pipeline::{self, RunOptions};
+use turf::scene::{self, plan::Plan, Loaded, ResolvedScene};
 
 /// Arguments of `turf run`.
 #[derive(Args)]
@@ -33,11 +36,149 @@ pub struct CheckArgs {
 }
 
 /// `turf run`.
-pub fn run(_args: RunArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`turf run` is not built yet")
+pub fn run(args: RunArgs) -> anyhow::Result<()> {
+    let loaded = scene::load(&args.scene, &args.set)?;
+    let opts = RunOptions {
+        out: args.out,
+        progress: !args.json && std::io::stderr().is_terminal(),
+    };
+    let report = pipeline::run(&loaded, &opts)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report.summary)?);
+    } else {
+        for r in report.summary.stages.iter().chain(
+            report
+                .summary
+                .sweep
+                .iter()
+                .flat_map(|s| s.points.iter().flat_map(|p| &p.stages)),
+        ) {
+            println!(
+                "{:<11} {:>10.3} s  {:>10} evaluations",
+                r.stage.name(),
+                r.wall_time_s,
+                r.evaluations
+            );
+            for (k, v) in &r.values {
+                println!("    {k} = {v}");
+            }
+        }
+    }
+    let summary = report.out_dir.join("summary.json");
+    match report.failure {
+        None => {
+            if !args.json {
+                println!("results in {}", report.out_dir.display());
+            }
+            Ok(())
+        }
+        Some(e) => Err(anyhow::anyhow!(
+            "{e} (what finished is in {})",
+            summary.display()
+        )),
+    }
 }
 
 /// `turf check`.
-pub fn check(_args: CheckArgs) -> anyhow::Result<()> {
-    anyhow::bail!("`turf check` is not built yet")
+pub fn check(args: CheckArgs) -> anyhow::Result<()> {
+    let loaded = scene::load(&args.scene, &args.set)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&check_json(&loaded))?);
+    } else {
+        print!("{}", check_text(&loaded));
+    }
+    Ok(())
+}
+
+fn check_json(loaded: &Loaded) -> serde_json::Value {
+    let b = &loaded.base;
+    let mut v = serde_json::json!({
+        "file": b.file.display().to_string(),
+        "name": b.name(),
+        "output": scene::output_dir(b, None).display().to_string(),
+        "plan": b.plan,
+        "derived": b.derived,
+        "scene": b.scene,
+    });
+    if !loaded.sweep.is_empty() {
+        v["sweep"] = serde_json::json!(loaded
+            .sweep
+            .iter()
+            .map(|p| serde_json::json!({"value": p.value, "plan": p.scene.plan, "derived": p.scene.derived}))
+            .collect::<Vec<_>>());
+    }
+    v
+}
+
+fn check_text(loaded: &Loaded) -> String {
+    let b = &loaded.base;
+    let mut s = format!("scene '{}' ({}) is valid\n", b.name(), b.file.display());
+    if !b.scene.scene.description.is_empty() {
+        s.push_str(&format!("  {}\n", b.scene.scene.description));
+    }
+    s.push_str(&format!(
+        "output: {}\n",
+        scene::output_dir(b, None).display()
+    ));
+    s.push_str(&plan_text(&b.plan));
+    if let Some(sw) = &b.scene.sweep {
+        s.push_str(&format!(
+            "\nsweep over {} ({} values):\n",
+            sw.key,
+            loaded.sweep.len()
+        ));
+        for p in &loaded.sweep {
+            s.push_str(&format!(
+                "  {} = {}{}\n",
+                sw.key,
+                p.value,
+                headline(&p.scene)
+            ));
+        }
+    }
+    s.push_str("\nnothing was run (turf run runs the stages)\n");
+    s
+}
+
+fn headline(scene: &ResolvedScene) -> String {
+    match scene.derived.tabor_mu {
+        Some(mu) => format!("  (Tabor μ = {mu:.4})"),
+        None => String::new(),
+    }
+}
+
+fn plan_text(plan: &Plan) -> String {
+    let mut s = String::from("\nstages, in order:\n");
+    for (i, st) in plan.stages.iter().enumerate() {
+        s.push_str(&format!(
+            "  {}. {:<11} {}\n",
+            i + 1,
+            st.stage.name(),
+            st.why
+        ));
+    }
+    s.push_str("\nphysics:\n");
+    for sw in &plan.physics {
+        s.push_str(&format!(
+            "  [{}] {:<18} {}\n",
+            if sw.on { "on " } else { "off" },
+            sw.name,
+            sw.detail
+        ));
+    }
+    s.push_str("\nresolved values (internal units):\n");
+    for v in &plan.values {
+        let unit = if v.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {}", v.unit)
+        };
+        let note = if v.note.is_empty() {
+            String::new()
+        } else {
+            format!("   ({})", v.note)
+        };
+        s.push_str(&format!("  {:<26} = {:.6e}{unit}{note}\n", v.key, v.value));
+    }
+    s
 }

@@ -1,0 +1,78 @@
+//! `[compression]`: the discrete drive — a rigid platen pressed onto the turf (or rods) along
+//! a nominal-strain path, optionally unloaded again to measure reversibility; each step is
+//! relaxed to equilibrium by FIRE or Newton.
+
+use super::check::Checker;
+use super::quantity::{Force, Number};
+use serde::{Deserialize, Serialize};
+
+/// How the platen meets the tube tops.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Platen {
+    /// the tops slide freely on the platen
+    Frictionless,
+    /// the tops move with the platen
+    Bonded,
+}
+
+/// Equilibrium solver of each step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DiscreteSolver {
+    /// FIRE relaxation (robust through buckling and contact changes)
+    Fire,
+    /// Newton with line search (fast near equilibrium)
+    Newton,
+}
+
+/// `[compression]`: the strain path and its solver.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Compression {
+    /// `"frictionless"` or `"bonded"`. Default `"frictionless"`.
+    #[serde(default = "default_platen")]
+    pub platen: Platen,
+    /// Final nominal compressive strain, in (0, 1). Required.
+    pub to: Number,
+    /// Strain steps to reach `to`, ≥ 1. Default 20.
+    #[serde(default = "default_steps")]
+    pub steps: usize,
+    /// Also unload back to zero strain, in as many steps. Default false.
+    #[serde(default)]
+    pub unload: bool,
+    /// `"fire"` or `"newton"`. Default `"fire"`.
+    #[serde(default = "default_solver")]
+    pub solver: DiscreteSolver,
+    /// Largest residual force on a node at equilibrium, nN. Default 1e-3 nN.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: Force,
+    /// Iterations per step before the stage gives up, ≥ 1. Default 100000.
+    #[serde(default = "default_iterations")]
+    pub max_iterations: usize,
+}
+
+fn default_platen() -> Platen {
+    Platen::Frictionless
+}
+fn default_steps() -> usize {
+    20
+}
+fn default_solver() -> DiscreteSolver {
+    DiscreteSolver::Fire
+}
+fn default_tolerance() -> Force {
+    Force(1e-3)
+}
+fn default_iterations() -> usize {
+    100_000
+}
+
+impl Compression {
+    pub(crate) fn check(&self, c: &mut Checker) {
+        c.number_in("compression.to", self.to.0, 0.0, 1.0, true);
+        c.count_at_least("compression.steps", self.steps, 1);
+        c.positive("compression.tolerance", self.tolerance);
+        c.count_at_least("compression.max_iterations", self.max_iterations, 1);
+    }
+}

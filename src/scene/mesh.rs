@@ -1,0 +1,74 @@
+//! `[mesh]`: the axisymmetric FE mesh — graded triangles, small at the contact, large far away
+//! (seed ch. 4). Every size defaults from the expected contact radius a (PHYSICS.md): the
+//! body is 20a wide and 50a deep (a rigid bottom at depth L adds a compliance error of about
+//! 0.42·a/L), with ~20 elements across a and, with adhesion, ≥ 10 across the LJ process zone
+//! E*r²/γ, where r is the law's range: z₀, plus the thermal shift u when there is one.
+
+use super::check::Checker;
+use super::quantity::{Length, Number};
+use serde::{Deserialize, Serialize};
+
+/// Default width of the body in expected contact radii (PHYSICS.md: at least 10).
+pub const WIDTH_PER_CONTACT_RADIUS: f64 = 20.0;
+/// Default depth of the body in expected contact radii (PHYSICS.md: ~50 for a 1 % Hertz check).
+pub const DEPTH_PER_CONTACT_RADIUS: f64 = 50.0;
+/// Default elements across the contact radius (PHYSICS.md).
+pub const ELEMENTS_PER_CONTACT_RADIUS: f64 = 20.0;
+/// Default elements across the LJ process zone (PHYSICS.md).
+pub const ELEMENTS_PER_PROCESS_ZONE: f64 = 10.0;
+
+/// `[mesh]`: sizes of the body and its elements.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Mesh {
+    /// Radius of the modelled body, nm. Default 20 × the expected contact radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<Length>,
+    /// Depth of the modelled body (rigid bottom), nm. Default 50 × the expected contact radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<Length>,
+    /// Smallest element size, at the contact, nm. Default a/20, and with adhesion at most a
+    /// tenth of the process zone E*(z₀ + u)²/γ (u: the thermal shift, 0 without).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smallest: Option<Length>,
+    /// Growth factor of element size away from the contact, > 1 (at most 2). Default 1.15.
+    #[serde(default = "default_grading")]
+    pub grading: Number,
+}
+
+fn default_grading() -> Number {
+    Number(1.15)
+}
+
+impl Default for Mesh {
+    fn default() -> Self {
+        Mesh {
+            width: None,
+            depth: None,
+            smallest: None,
+            grading: default_grading(),
+        }
+    }
+}
+
+impl Mesh {
+    pub(crate) fn check(&self, c: &mut Checker) {
+        c.positive_opt("mesh.width", self.width);
+        c.positive_opt("mesh.depth", self.depth);
+        c.positive_opt("mesh.smallest", self.smallest);
+        if !(self.grading.0 > 1.0 && self.grading.0 <= 2.0) {
+            c.bad(
+                "mesh.grading",
+                format!("{} is not allowed: must lie in (1, 2]", self.grading.0),
+            );
+        }
+        if let (Some(s), Some(w), Some(d)) = (self.smallest, self.width, self.depth) {
+            if s.0 >= w.0.min(d.0) {
+                c.bad(
+                    "mesh.smallest",
+                    format!("{} nm is not allowed: must be smaller than the width and depth of the body", s.0),
+                );
+            }
+        }
+    }
+}

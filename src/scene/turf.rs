@@ -1,0 +1,208 @@
+//! `[turf]`: the discrete turf — tubes as elastica chains grown from a substrate, interacting
+//! by van der Waals line contacts (seed ch. 2.4). Tubes are hollow cylinders with bending
+//! stiffness K = Y·π(r_o⁴ − r_i⁴)/4 (the axial moment; seed values Y = 0.4 TPa, r_o = 20 nm,
+//! r_i = 17.3 nm, K = 2.21×10⁷ nN·nm²), about 7 µm long, at an areal density of order
+//! 10¹⁰ cm⁻². Tube–tube adhesion: γ_L of order 1 nN at an axis separation 2r_o + 0.34 nm.
+
+use super::check::Checker;
+use super::quantity::{ArealDensity, Length, LineEnergy, Number, Pressure};
+use serde::{Deserialize, Serialize};
+
+/// `[turf.tube]` / `[rods.tube]`: the cross-section and modulus of a tube.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tube {
+    /// Outer radius r_o, nm. Required, positive.
+    pub r_o: Length,
+    /// Inner radius r_i, nm, 0 ≤ r_i < r_o. Required.
+    pub r_i: Length,
+    /// Young's modulus of the wall Y, GPa. Required, positive.
+    pub youngs: Pressure,
+    /// Length of one chain segment (the discretisation), nm. Default: a twentieth of the tube
+    /// length (`[turf]`) or of the rod (`[rods]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub segment: Option<Length>,
+}
+
+impl Tube {
+    pub(crate) fn check(&self, c: &mut Checker, section: &str) {
+        c.positive(&format!("{section}.r_o"), self.r_o);
+        c.positive(&format!("{section}.youngs"), self.youngs);
+        c.positive_opt(&format!("{section}.segment"), self.segment);
+        if self.r_i.0 < 0.0 || self.r_i.0 >= self.r_o.0 {
+            c.bad(
+                format!("{section}.r_i"),
+                format!(
+                    "{} nm is not allowed: the inner radius must satisfy 0 <= r_i < r_o = {} nm",
+                    self.r_i.0, self.r_o.0
+                ),
+            );
+        }
+    }
+
+    /// Bending stiffness K = Y·π(r_o⁴ − r_i⁴)/4, nN·nm².
+    pub fn bending_stiffness(&self) -> f64 {
+        self.youngs.0 * std::f64::consts::PI * (self.r_o.0.powi(4) - self.r_i.0.powi(4)) / 4.0
+    }
+}
+
+/// `[turf.growth]`: how the tubes grow from the substrate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Growth {
+    /// Mean tube length (the turf height), nm. Required, positive.
+    pub length: Length,
+    /// Relative standard deviation of the lengths, in [0, 1). Default 0.
+    #[serde(default)]
+    pub length_spread: Number,
+    /// Standard deviation of the growth direction from the normal, radians, in [0, π/2).
+    /// Default 0.
+    #[serde(default)]
+    pub tilt: Number,
+    /// Amplitude of the tubes' waviness, nm, ≥ 0. Default 0 (straight).
+    #[serde(default)]
+    pub waviness: Length,
+    /// Wavelength of the waviness, nm. Required when `waviness` > 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wavelength: Option<Length>,
+}
+
+/// `[turf.vdw]` / `[rods.vdw]`: tube–tube van der Waals contact. Absent: tubes do not interact
+/// (no contact search).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Vdw {
+    /// Contact energy per unit length γ_L of two parallel tubes in contact, nN (= nJ/m).
+    /// Required, positive.
+    pub gamma_line: LineEnergy,
+    /// Equilibrium wall-to-wall gap, nm. Default 0.34 nm (graphite interlayer).
+    #[serde(default = "default_separation")]
+    pub separation: Length,
+    /// Wall-to-wall gap beyond which contacts are ignored, nm. Default 10 × `separation`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cutoff: Option<Length>,
+}
+
+fn default_separation() -> Length {
+    Length(0.34)
+}
+
+impl Vdw {
+    pub(crate) fn check(&mut self, c: &mut Checker, section: &str) {
+        c.positive(&format!("{section}.gamma_line"), self.gamma_line);
+        c.positive(&format!("{section}.separation"), self.separation);
+        let cut = *self.cutoff.get_or_insert(Length(10.0 * self.separation.0));
+        if cut.0 <= self.separation.0 {
+            c.bad(
+                format!("{section}.cutoff"),
+                format!(
+                    "{} nm is not allowed: must exceed the separation {} nm",
+                    cut.0, self.separation.0
+                ),
+            );
+        }
+    }
+}
+
+/// `[turf]`: a generated turf.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Turf {
+    /// Areal number density of tubes, 1/nm² (e.g. `"1e10 1/cm^2"`). Required, positive.
+    pub density: ArealDensity,
+    /// Lateral size of the modelled patch [x, y], nm. Required, positive.
+    #[serde(rename = "box")]
+    pub box_size: [Length; 2],
+    /// Periodic in x and y. Default true.
+    #[serde(default = "default_periodic")]
+    pub periodic: bool,
+    /// The tubes' cross-section and modulus.
+    pub tube: Tube,
+    /// The tubes' length and shape.
+    pub growth: Growth,
+    /// Tube–tube contact; absent: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vdw: Option<Vdw>,
+}
+
+fn default_periodic() -> bool {
+    true
+}
+
+impl Turf {
+    /// Number of tubes in the box: density × area, rounded.
+    pub fn tube_count(&self) -> f64 {
+        (self.density.0 * self.box_size[0].0 * self.box_size[1].0).round()
+    }
+
+    pub(crate) fn check(&mut self, c: &mut Checker) {
+        c.positive("turf.density", self.density);
+        c.positive("turf.box[0]", self.box_size[0]);
+        c.positive("turf.box[1]", self.box_size[1]);
+        self.tube.check(c, "turf.tube");
+        let g = &self.growth;
+        c.positive("turf.growth.length", g.length);
+        c.number_in(
+            "turf.growth.length_spread",
+            g.length_spread.0,
+            0.0,
+            1.0,
+            false,
+        );
+        c.number_in(
+            "turf.growth.tilt",
+            g.tilt.0,
+            0.0,
+            std::f64::consts::FRAC_PI_2,
+            false,
+        );
+        if g.waviness.0 < 0.0 {
+            c.bad(
+                "turf.growth.waviness",
+                format!("{} nm is not allowed: must be >= 0", g.waviness.0),
+            );
+        }
+        match g.wavelength {
+            Some(w) => c.positive("turf.growth.wavelength", w),
+            None if g.waviness.0 > 0.0 => c.bad(
+                "turf.growth.wavelength",
+                "is missing: a wavy tube (waviness > 0) needs the wavelength",
+            ),
+            None => {}
+        }
+        if let Some(s) = self.tube.segment {
+            if s.0 >= g.length.0 {
+                c.bad(
+                    "turf.tube.segment",
+                    format!(
+                        "{} nm is not allowed: must be shorter than the tube length {} nm",
+                        s.0, g.length.0
+                    ),
+                );
+            }
+        }
+        if let Some(v) = &mut self.vdw {
+            v.check(c, "turf.vdw");
+        }
+        if self.density.0 > 0.0 && self.box_size.iter().all(|b| b.0 > 0.0) {
+            let n = self.tube_count();
+            if n < 1.0 {
+                c.bad(
+                    "turf.box",
+                    format!("holds {n} tubes at this density: make the box larger (density × area >= 1)"),
+                );
+            }
+            let spacing = 1.0 / self.density.0.sqrt();
+            if spacing <= 2.0 * self.tube.r_o.0 {
+                c.bad(
+                    "turf.density",
+                    format!(
+                        "{} /nm^2 is not allowed: the mean spacing {spacing:.3} nm is less than a tube diameter {} nm",
+                        self.density.0,
+                        2.0 * self.tube.r_o.0
+                    ),
+                );
+            }
+        }
+    }
+}

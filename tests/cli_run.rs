@@ -1,0 +1,128 @@
+//! The `turf` binary: `turf check` (text and --json), error exits, and `turf run`'s behaviour
+//! while no engine is built in (a clear error naming the stage, a summary of what finished).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn turf(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_turf"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the turf binary runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn check_prints_the_plan_and_runs_nothing() {
+    let out = turf(&["check", "scenes/jkr_sphere.toml"]);
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    for part in [
+        "scene 'jkr_sphere'",
+        "1. theory",
+        "2. halfspace",
+        "Tabor μ",
+        "[off] viscoelastic",
+        "no internal variables",
+        "adhesion.gamma",
+        "J/m^2",
+        "nothing was run",
+    ] {
+        assert!(stdout.contains(part), "missing {part:?} in:\n{stdout}");
+    }
+    assert!(!Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("runs/jkr_sphere")
+        .exists());
+}
+
+#[test]
+fn check_json_is_machine_readable_and_honours_set() {
+    let out = turf(&[
+        "check",
+        "scenes/hertz.toml",
+        "--json",
+        "--set",
+        "schedule.segment[0].to=8 nm",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let stages: Vec<&str> = v["plan"]["stages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["stage"].as_str().unwrap())
+        .collect();
+    assert_eq!(stages, ["theory", "continuum"]);
+    assert_eq!(v["scene"]["schedule"]["segment"][0]["to"], 8.0);
+    assert_eq!(v["scene"]["indenter"]["radius"], 1000.0);
+    assert_eq!(v["derived"]["schedule"]["max_depth_nm"], 8.0);
+}
+
+#[test]
+fn a_bad_scene_exits_non_zero_with_the_key_in_the_message() {
+    let out = turf(&[
+        "check",
+        "scenes/jkr_sphere.toml",
+        "--set",
+        "material.poisson=0.5",
+    ]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(err.contains("scenes/jkr_sphere.toml"), "{err}");
+    assert!(err.contains("material.poisson (from --set)"), "{err}");
+    assert!(err.contains("[0, 0.5)"), "{err}");
+    let out = turf(&["check", "scenes/missing.toml"]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("cannot read scene scenes/missing.toml"));
+}
+
+fn temp(tag: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("turf-cli-{tag}-{}", std::process::id()))
+}
+
+#[test]
+fn run_names_the_missing_engine_and_keeps_a_summary() {
+    let dir = temp("run");
+    let out = turf(&[
+        "run",
+        "scenes/jkr_sphere.toml",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("stage 'theory' is not available in this build"),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["complete"], false);
+    assert_eq!(summary["units"]["length"], "nm");
+    assert_eq!(summary["scene"]["adhesion"]["gamma"], 0.05);
+    assert_eq!(summary["plan"]["stages"][0]["stage"], "theory");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn run_json_prints_the_summary_even_when_a_stage_fails() {
+    let dir = temp("json");
+    let out = turf(&[
+        "run",
+        "scenes/turf_compression.toml",
+        "--json",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        v["error"],
+        "stage 'discrete' is not available in this build"
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

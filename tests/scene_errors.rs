@@ -1,0 +1,415 @@
+//! Bad scene input, one kind per test: each must be refused with a message that names the
+//! key (and the file and line where there is one) and says what is allowed.
+
+use std::path::Path;
+use turf::scene::{load, load_str, SceneError};
+
+/// A valid scene (sphere on a linear solid with adhesion: theory + halfspace).
+const GOOD: &str = r#"[scene]
+name = "t"
+
+[indenter]
+radius = "100 nm"
+
+[material]
+model = "linear"
+youngs = "1 GPa"
+poisson = 0.3
+
+[adhesion]
+gamma = "0.05 J/m^2"
+z0 = "0.34 nm"
+
+[halfspace]
+depth_max = "5 nm"
+"#;
+
+/// A valid FE scene with a schedule.
+const FE: &str = r#"[indenter]
+radius = "1 um"
+
+[material]
+model = "hyperfoam"
+mu = ["350 MPa"]
+alpha = [18.8]
+
+[viscoelastic]
+g = [0.4]
+tau = ["3 s"]
+
+[schedule]
+[[schedule.segment]]
+kind = "load"
+to = "50 nm"
+rate = "10 nm/s"
+
+[[schedule.segment]]
+kind = "unload"
+to = "0 nm"
+rate = "10 nm/s"
+"#;
+
+/// A valid discrete scene.
+const TURF: &str = r#"[turf]
+density = "1e10 1/cm^2"
+box = ["1 um", "1 um"]
+
+[turf.tube]
+r_o = "20 nm"
+r_i = "17.3 nm"
+youngs = "0.4 TPa"
+
+[turf.growth]
+length = "7 um"
+
+[compression]
+to = 0.3
+"#;
+
+fn error(text: &str, sets: &[&str]) -> String {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    match load_str(text, Path::new("bad.toml"), &sets) {
+        Ok(_) => panic!("accepted:\n{text}\nwith {sets:?}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn assert_has(msg: &str, parts: &[&str]) {
+    for p in parts {
+        assert!(msg.contains(p), "message lacks {p:?}:\n{msg}");
+    }
+}
+
+#[test]
+fn the_valid_scenes_of_these_tests_load() {
+    for text in [GOOD, FE, TURF] {
+        load_str(text, Path::new("good.toml"), &[]).unwrap();
+    }
+}
+
+#[test]
+fn unknown_key_names_key_line_and_the_allowed_keys() {
+    let text = GOOD.replace("z0 = \"0.34 nm\"", "z0 = \"0.34 nm\"\ngama = 0.1");
+    let msg = error(&text, &[]);
+    assert_has(
+        &msg,
+        &[
+            "bad.toml",
+            "line 15",
+            "adhesion.gama",
+            "unknown field",
+            "`gamma`",
+            "`thermal_shift`",
+        ],
+    );
+}
+
+#[test]
+fn unknown_section_lists_the_sections() {
+    let msg = error(&format!("{GOOD}\n[adhesions]\nx = 1\n"), &[]);
+    assert_has(
+        &msg,
+        &[
+            "adhesions",
+            "unknown field",
+            "`adhesion`",
+            "`turf`",
+            "`sweep`",
+        ],
+    );
+}
+
+#[test]
+fn wrong_dimension_names_the_dimension_expected() {
+    let msg = error(&GOOD.replace("\"0.05 J/m^2\"", "\"3 nm\""), &[]);
+    assert_has(
+        &msg,
+        &[
+            "line 13",
+            "adhesion.gamma",
+            "\"3 nm\" is a length",
+            "expected a surface energy",
+        ],
+    );
+}
+
+#[test]
+fn negative_radius_is_refused() {
+    let msg = error(&GOOD.replace("\"100 nm\"", "\"-100 nm\""), &[]);
+    assert_has(
+        &msg,
+        &["line 5", "indenter.radius", "-100 nm", "must be positive"],
+    );
+}
+
+#[test]
+fn inner_radius_not_below_outer_radius_is_refused() {
+    let msg = error(&TURF.replace("\"17.3 nm\"", "\"20 nm\""), &[]);
+    assert_has(&msg, &["turf.tube.r_i", "20 nm", "0 <= r_i < r_o"]);
+}
+
+#[test]
+fn poisson_ratio_of_one_half_is_refused() {
+    let msg = error(&GOOD.replace("poisson = 0.3", "poisson = 0.5"), &[]);
+    assert_has(&msg, &["line 10", "material.poisson", "0.5", "[0, 0.5)"]);
+}
+
+#[test]
+fn unequal_hyperfoam_arrays_are_refused() {
+    let msg = error(
+        &FE.replace("mu = [\"350 MPa\"]", "mu = [\"350 MPa\", \"10 MPa\"]"),
+        &[],
+    );
+    assert_has(
+        &msg,
+        &[
+            "material.alpha",
+            "has 1 entries but material.mu has 2",
+            "equal length",
+        ],
+    );
+}
+
+#[test]
+fn bad_enum_value_lists_the_allowed_values() {
+    let msg = error(
+        &GOOD.replace("[adhesion]", "[adhesion]\nlaw = \"lj12\""),
+        &[],
+    );
+    assert_has(&msg, &["adhesion.law", "lj12", "`lj93`", "`lj104`"]);
+    let msg = error(
+        &GOOD.replace("model = \"linear\"", "model = \"neo-hookean\""),
+        &[],
+    );
+    assert_has(
+        &msg,
+        &["material.model", "`linear`", "`hyperfoam`", "`card`"],
+    );
+}
+
+#[test]
+fn malformed_toml_gives_file_line_and_column() {
+    let msg = error("[scene]\nname = \"x\"\nseed = = 3\n", &[]);
+    assert_has(&msg, &["bad.toml:3:", "malformed TOML"]);
+}
+
+#[test]
+fn unknown_key_via_set_lists_the_keys_of_that_section() {
+    let msg = error(GOOD, &["adhesion.gama=0.1"]);
+    assert_has(
+        &msg,
+        &[
+            "adhesion.gama (from --set)",
+            "unknown field",
+            "`gamma`",
+            "`z0`",
+        ],
+    );
+    let msg = error(GOOD, &["nosuch.key=1"]);
+    assert_has(&msg, &["nosuch (from --set)", "`indenter`"]);
+}
+
+#[test]
+fn bad_value_via_set_is_refused_like_a_file_value() {
+    let msg = error(GOOD, &["adhesion.gamma=abc"]);
+    assert_has(
+        &msg,
+        &[
+            "adhesion.gamma (from --set)",
+            "\"abc\" does not start with a number",
+            "surface energy",
+        ],
+    );
+    let msg = error(GOOD, &["material.poisson=0.7"]);
+    assert_has(&msg, &["material.poisson (from --set)", "[0, 0.5)"]);
+}
+
+#[test]
+fn set_without_equals_or_with_a_bad_path_is_refused() {
+    let msg = error(GOOD, &["adhesion.gamma"]);
+    assert_has(&msg, &["--set adhesion.gamma", "KEY=VALUE"]);
+    let msg = error(GOOD, &["adhesion..gamma=1"]);
+    assert_has(&msg, &["dotted path"]);
+    let msg = error(FE, &["schedule.segment[5].to=1"]);
+    assert_has(&msg, &["schedule.segment has 2 element(s)", "out of range"]);
+}
+
+#[test]
+fn missing_file_names_the_file() {
+    let e = load(Path::new("/nonexistent/scene.toml"), &[]).unwrap_err();
+    assert!(matches!(e, SceneError::Io { .. }));
+    assert_has(
+        &e.to_string(),
+        &["cannot read scene /nonexistent/scene.toml"],
+    );
+}
+
+#[test]
+fn prony_terms_summing_to_one_are_refused() {
+    let msg = error(
+        &FE.replace(
+            "g = [0.4]\ntau = [\"3 s\"]",
+            "g = [0.6, 0.4]\ntau = [\"3 s\", \"1 s\"]",
+        ),
+        &[],
+    );
+    assert_has(&msg, &["viscoelastic.g", "sums to 1", "less than 1"]);
+}
+
+#[test]
+fn prony_arrays_of_unequal_length_are_refused() {
+    let msg = error(
+        &FE.replace("tau = [\"3 s\"]", "tau = [\"3 s\", \"1 s\"]"),
+        &[],
+    );
+    assert_has(
+        &msg,
+        &["viscoelastic.tau", "has 2 entries but viscoelastic.g has 1"],
+    );
+}
+
+#[test]
+fn inconsistent_schedule_is_refused() {
+    let msg = error(&FE.replace("to = \"0 nm\"", "to = \"80 nm\""), &[]);
+    assert_has(
+        &msg,
+        &[
+            "schedule.segment[1].to",
+            "80 nm",
+            "must decrease the depth",
+            "50 nm",
+        ],
+    );
+    let msg = error(
+        &FE.replace("rate = \"10 nm/s\"\n\n", "rate = \"10 nm/s\"\ntime = 3\n\n"),
+        &[],
+    );
+    assert_has(&msg, &["schedule.segment[0].rate", "give one of them"]);
+    let hold = FE.replace("kind = \"unload\"\nto = \"0 nm\"", "kind = \"hold\"");
+    let msg = error(&hold, &[]);
+    assert_has(
+        &msg,
+        &[
+            "schedule.segment[1].rate",
+            "is not used in a hold",
+            "schedule.segment[1].time",
+            "is missing",
+        ],
+    );
+}
+
+#[test]
+fn load_control_reads_targets_as_loads() {
+    let text = format!("{FE}\n[machine]\ncontrol = \"load\"\n");
+    let msg = error(&text, &[]);
+    assert_has(
+        &msg,
+        &[
+            "schedule.segment[0].to",
+            "\"50 nm\" is a length",
+            "expected a force",
+        ],
+    );
+}
+
+#[test]
+fn sweep_key_must_name_an_existing_numeric_key() {
+    let msg = error(
+        &format!("{GOOD}\n[sweep]\nkey = \"adhesion.beta\"\nvalues = [1, 2]\n"),
+        &[],
+    );
+    assert_has(&msg, &["sweep.key", "existing numeric key"]);
+    let msg = error(
+        &format!("{GOOD}\n[sweep]\nkey = \"material.model\"\nvalues = [1]\n"),
+        &[],
+    );
+    assert_has(&msg, &["sweep.key", "existing numeric key"]);
+}
+
+#[test]
+fn every_swept_value_is_validated() {
+    let text =
+        format!("{GOOD}\n[sweep]\nkey = \"adhesion.gamma\"\nvalues = [\"0.1 J/m^2\", \"2 nm\"]\n");
+    let msg = error(&text, &[]);
+    assert_has(
+        &msg,
+        &[
+            "sweep.values[1]",
+            "\"2 nm\" for adhesion.gamma",
+            "expected a surface energy",
+        ],
+    );
+}
+
+#[test]
+fn thermal_shift_from_tubes_needs_a_turf() {
+    let msg = error(
+        &GOOD.replace("z0 = \"0.34 nm\"", "z0 = \"0.34 nm\"\nthermal_shift = true"),
+        &[],
+    );
+    assert_has(
+        &msg,
+        &["adhesion.thermal_shift", "needs [turf]", "give a length"],
+    );
+}
+
+#[test]
+fn a_section_no_stage_uses_is_refused() {
+    let msg = error(&format!("{GOOD}\n[mesh]\ngrading = 1.2\n"), &[]);
+    assert_has(&msg, &["mesh", "only used by the continuum stage"]);
+    let msg = error(
+        "[material]\nmodel = \"linear\"\nyoungs = 1\npoisson = 0.3\n",
+        &[],
+    );
+    assert_has(&msg, &["material", "not used by any stage"]);
+}
+
+#[test]
+fn missing_required_key_names_the_section_and_key() {
+    let msg = error(&GOOD.replace("z0 = \"0.34 nm\"", ""), &[]);
+    assert_has(&msg, &["line 12", "adhesion", "missing field `z0`"]);
+}
+
+#[test]
+fn keys_of_another_model_are_refused() {
+    let msg = error(
+        &GOOD.replace("poisson = 0.3", "poisson = 0.3\nalpha = [2.0]"),
+        &[],
+    );
+    assert_has(
+        &msg,
+        &["material.alpha", "is not used with model = \"linear\""],
+    );
+}
+
+#[test]
+fn wrong_type_is_refused() {
+    let msg = error(
+        &GOOD.replace("depth_max", "grid = \"many\"\ndepth_max"),
+        &[],
+    );
+    assert_has(&msg, &["halfspace.grid", "expected"]);
+}
+
+#[test]
+fn non_finite_numbers_are_refused() {
+    let msg = error(&GOOD.replace("poisson = 0.3", "poisson = nan"), &[]);
+    assert_has(&msg, &["material.poisson", "not a finite number"]);
+}
+
+#[test]
+fn turf_too_dense_for_its_tubes_is_refused() {
+    let msg = error(&TURF.replace("1e10 1/cm^2", "1e12 1/cm^2"), &[]);
+    assert_has(&msg, &["turf.density", "less than a tube diameter"]);
+}
+
+#[test]
+fn every_problem_is_reported_at_once() {
+    let text = GOOD
+        .replace("\"100 nm\"", "\"-100 nm\"")
+        .replace("poisson = 0.3", "poisson = 0.6");
+    let e = load_str(&text, Path::new("bad.toml"), &[]).unwrap_err();
+    let keys: Vec<&str> = e.problems().iter().map(|p| p.key.as_str()).collect();
+    assert_eq!(keys, ["indenter.radius", "material.poisson"]);
+    assert_has(&e.to_string(), &["2 problems"]);
+}
