@@ -238,8 +238,9 @@ pub fn parse_quantity(text: &str, expected: Dimension) -> Result<f64, UnitError>
             found,
         });
     }
-    // Internal units: L = 1e-9 m, M = 1 kg, T = 1 s, K = 1 K.
-    let out = value * factor_si / 1e-9_f64.powi(dim.l as i32);
+    // Internal units: L = 1e-9 m, M = 1 kg, T = 1 s, K = 1 K. Powers of ten are kept as
+    // integers until here, so "20 uN" is exactly 20000 nN.
+    let out = value * factor_si.0 * 10f64.powi(factor_si.1 + 9 * dim.l as i32);
     if !out.is_finite() {
         return Err(UnitError::NotFinite(text.to_string()));
     }
@@ -276,10 +277,13 @@ fn number_prefix_len(s: &str) -> usize {
     i
 }
 
+/// An SI factor as mantissa × 10^exponent (prefixes stay exact integers of the exponent).
+type Factor = (f64, i32);
+
 /// Parse a unit expression into (SI factor, dimension). Factors are separated by `*`, `·` or
 /// spaces; every factor after a `/` divides (so `uN*s/nm` and `N/m/s` read as expected).
-fn parse_unit_expr(unit: &str, text: &str) -> Result<(f64, Dim), UnitError> {
-    let mut factor = 1.0;
+fn parse_unit_expr(unit: &str, text: &str) -> Result<(Factor, Dim), UnitError> {
+    let mut factor: Factor = (1.0, 0);
     let mut dim = Dim::new(0, 0, 0, 0);
     let mut sign: i8 = 1;
     for (i, part) in unit.split('/').enumerate() {
@@ -290,7 +294,10 @@ fn parse_unit_expr(unit: &str, text: &str) -> Result<(f64, Dim), UnitError> {
         let mut any = false;
         for token in factors {
             let (f, d) = parse_factor(token, text)?;
-            factor *= f.powi(sign as i32);
+            factor = (
+                factor.0 * f.0.powi(sign as i32),
+                factor.1 + sign as i32 * f.1,
+            );
             dim = dim.mul(d, sign);
             any = true;
         }
@@ -305,7 +312,7 @@ fn parse_unit_expr(unit: &str, text: &str) -> Result<(f64, Dim), UnitError> {
 }
 
 /// One factor such as `nm^2`, `m²`, `1`, `uN`.
-fn parse_factor(token: &str, text: &str) -> Result<(f64, Dim), UnitError> {
+fn parse_factor(token: &str, text: &str) -> Result<(Factor, Dim), UnitError> {
     let (atom, power) = split_power(token);
     let unknown = || UnitError::UnknownUnit {
         atom: token.to_string(),
@@ -313,10 +320,10 @@ fn parse_factor(token: &str, text: &str) -> Result<(f64, Dim), UnitError> {
     };
     let power = power.ok_or_else(unknown)?;
     if atom == "1" {
-        return Ok((1.0, Dim::new(0, 0, 0, 0)));
+        return Ok(((1.0, 0), Dim::new(0, 0, 0, 0)));
     }
     let (f, d) = atom_si(atom).ok_or_else(unknown)?;
-    Ok((f.powi(power as i32), d.pow(power)))
+    Ok(((f.0.powi(power as i32), f.1 * power as i32), d.pow(power)))
 }
 
 fn split_power(token: &str) -> (&str, Option<i8>) {
@@ -332,7 +339,7 @@ fn split_power(token: &str) -> (&str, Option<i8>) {
 }
 
 /// SI factor and dimension of a (possibly prefixed) unit atom.
-fn atom_si(atom: &str) -> Option<(f64, Dim)> {
+fn atom_si(atom: &str) -> Option<(Factor, Dim)> {
     if let Some(base) = base_unit(atom) {
         return Some(base);
     }
@@ -340,44 +347,44 @@ fn atom_si(atom: &str) -> Option<(f64, Dim)> {
     let p = chars.next()?;
     let rest = chars.as_str();
     let scale = match p {
-        'T' => 1e12,
-        'G' => 1e9,
-        'M' => 1e6,
-        'k' => 1e3,
-        'c' => 1e-2,
-        'm' => 1e-3,
-        'u' | 'µ' | 'μ' => 1e-6,
-        'n' => 1e-9,
-        'p' => 1e-12,
-        'f' => 1e-15,
-        'a' => 1e-18,
+        'T' => 12,
+        'G' => 9,
+        'M' => 6,
+        'k' => 3,
+        'c' => -2,
+        'm' => -3,
+        'u' | 'µ' | 'μ' => -6,
+        'n' => -9,
+        'p' => -12,
+        'f' => -15,
+        'a' => -18,
         _ => return None,
     };
     if !prefixable(rest) {
         return None;
     }
     let (f, d) = base_unit(rest)?;
-    Some((scale * f, d))
+    Some(((f.0, f.1 + scale), d))
 }
 
 fn prefixable(base: &str) -> bool {
     matches!(base, "m" | "g" | "s" | "N" | "Pa" | "J" | "eV")
 }
 
-fn base_unit(atom: &str) -> Option<(f64, Dim)> {
+fn base_unit(atom: &str) -> Option<(Factor, Dim)> {
     let length = Dim::new(1, 0, 0, 0);
     Some(match atom {
-        "m" => (1.0, length),
-        "Å" | "angstrom" => (1e-10, length),
-        "g" => (1e-3, Dim::new(0, 1, 0, 0)),
-        "s" => (1.0, Dim::new(0, 0, 1, 0)),
-        "min" => (60.0, Dim::new(0, 0, 1, 0)),
-        "h" => (3600.0, Dim::new(0, 0, 1, 0)),
-        "N" => (1.0, Dimension::Force.dim()),
-        "Pa" => (1.0, Dimension::Pressure.dim()),
-        "J" => (1.0, Dimension::Energy.dim()),
-        "eV" => (1.602_176_634e-19, Dimension::Energy.dim()),
-        "K" => (1.0, Dimension::Temperature.dim()),
+        "m" => ((1.0, 0), length),
+        "Å" | "angstrom" => ((1.0, -10), length),
+        "g" => ((1.0, -3), Dim::new(0, 1, 0, 0)),
+        "s" => ((1.0, 0), Dim::new(0, 0, 1, 0)),
+        "min" => ((60.0, 0), Dim::new(0, 0, 1, 0)),
+        "h" => ((3600.0, 0), Dim::new(0, 0, 1, 0)),
+        "N" => ((1.0, 0), Dimension::Force.dim()),
+        "Pa" => ((1.0, 0), Dimension::Pressure.dim()),
+        "J" => ((1.0, 0), Dimension::Energy.dim()),
+        "eV" => ((1.602_176_634, -19), Dimension::Energy.dim()),
+        "K" => ((1.0, 0), Dimension::Temperature.dim()),
         _ => return None,
     })
 }
@@ -404,6 +411,7 @@ mod tests {
             ("0.46 J/m²", SurfaceEnergy, 0.46),
             ("10 nm/s", Rate, 10.0),
             ("1 uN/nm", Stiffness, 1000.0),
+            ("20 uN", Force, 20_000.0),
             ("210 mN/nm", Stiffness, 2.1e8),
             ("100 N/m", Stiffness, 100.0),
             ("300 K", Temperature, 300.0),

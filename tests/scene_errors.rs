@@ -21,7 +21,7 @@ gamma = "0.05 J/m^2"
 z0 = "0.34 nm"
 
 [halfspace]
-depth_max = "5 nm"
+cells_per_zone = 12
 "#;
 
 /// A valid FE scene with a schedule.
@@ -385,10 +385,10 @@ fn keys_of_another_model_are_refused() {
 #[test]
 fn wrong_type_is_refused() {
     let msg = error(
-        &GOOD.replace("depth_max", "grid = \"many\"\ndepth_max"),
+        &GOOD.replace("cells_per_zone = 12", "cells_per_zone = \"many\""),
         &[],
     );
-    assert_has(&msg, &["halfspace.grid", "expected"]);
+    assert_has(&msg, &["halfspace.cells_per_zone", "expected"]);
 }
 
 #[test]

@@ -23,6 +23,7 @@ fn every_scene_in_the_folder_loads_and_is_tested_here() {
         "hertz.toml",
         "hyperfoam_indent.toml",
         "jkr_sphere.toml",
+        "seed_card.toml",
         "turf_compression.toml",
         "turf_indent.toml",
     ];
@@ -45,6 +46,24 @@ fn every_scene_in_the_folder_loads_and_is_tested_here() {
         );
         load(&scenes_dir().join(f), &[]).unwrap_or_else(|e| panic!("{e}"));
     }
+}
+
+#[test]
+fn seed_card_runs_homogenize_alone_and_reproduces_table_5_1() {
+    assert_eq!(stages("seed_card.toml"), [Stage::Homogenize]);
+    let l = load(&scenes_dir().join("seed_card.toml"), &[]).unwrap();
+    let dir = std::env::temp_dir().join(format!("turf-seed-card-{}", std::process::id()));
+    let opts = turf::pipeline::RunOptions {
+        out: Some(dir.clone()),
+        progress: false,
+    };
+    let report = turf::pipeline::run(&l, &opts).unwrap();
+    assert!(report.failure.is_none());
+    let card = turf::homogenize::read_card(&dir.join("material.inp")).unwrap();
+    // Table 5.1 at ε₀ = 0.05: μ = 350 MPa, α = 18.8 (3 %, the tolerance)
+    let hf = &card.hyperfoam.terms[0];
+    assert!((hf.mu - 0.35).abs() < 1e-9 && (hf.alpha / 18.8 - 1.0).abs() < 0.03);
+    std::fs::remove_dir_all(dir).ok();
 }
 
 #[test]

@@ -44,23 +44,16 @@ fn delete(doc: &mut Table, path: &[Step]) {
     let Some((last, parent)) = path.split_last() else {
         return;
     };
-    let mut here = &mut *doc;
-    let mut value: Option<&mut Value> = None;
+    let mut root = Value::Table(std::mem::take(doc));
+    let mut here = Some(&mut root);
     for s in parent {
-        let next = match (s, value) {
-            (Step::Key(k), None) => here.get_mut(k),
-            (Step::Key(k), Some(Value::Table(t))) => t.get_mut(k),
-            (Step::Index(i), Some(Value::Array(a))) => a.get_mut(*i),
-            _ => return,
-        };
-        let Some(next) = next else { return };
-        value = Some(next);
-        let _ = &mut here;
+        here = here.and_then(|v| match (s, v) {
+            (Step::Key(k), Value::Table(t)) => t.get_mut(k),
+            (Step::Index(i), Value::Array(a)) => a.get_mut(*i),
+            _ => None,
+        });
     }
-    match (last, value) {
-        (Step::Key(k), None) => {
-            here.remove(k);
-        }
+    match (last, here) {
         (Step::Key(k), Some(Value::Table(t))) => {
             t.remove(k);
         }
@@ -68,6 +61,9 @@ fn delete(doc: &mut Table, path: &[Step]) {
             a.remove(*i);
         }
         _ => {}
+    }
+    if let Value::Table(t) = root {
+        *doc = t;
     }
 }
 

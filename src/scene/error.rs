@@ -12,14 +12,14 @@ pub struct Problem {
     /// 1-based line in the scene file, when the key is written there
     pub line: Option<usize>,
     /// true when the key was given by `--set` on the command line
-    pub from_command_line: bool,
+    pub is_from_command_line: bool,
     /// what is wrong: the value and what is allowed
     pub message: String,
 }
 
 impl fmt::Display for Problem {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        match (self.line, self.from_command_line) {
+        match (self.line, self.is_from_command_line) {
             (_, true) => write!(f, "{} (from --set): {}", self.key, self.message),
             (Some(l), false) => write!(f, "line {l}: {}: {}", self.key, self.message),
             (None, false) => write!(f, "{}: {}", self.key, self.message),

@@ -28,8 +28,8 @@ pub struct Homogenize {
     /// Hyperfoam terms N, 1 to 6. Default 1 (the seed's Table 5.1).
     #[serde(default = "default_terms")]
     pub terms: usize,
-    /// Largest nominal compressive strain fitted, in (0, 1). Default: `compression.to`, or 0.5
-    /// for the tangent law.
+    /// Largest nominal compressive strain fitted, in (0, 1). Default: `compression.to`, or 0.3
+    /// for the tangent law (the range that reproduces the seed's Table 5.1, docs/homogenize.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strain_max: Option<Number>,
     /// `"loading"`, `"unloading"` or `"tangent-law"`. Default `"loading"`.
@@ -52,9 +52,6 @@ fn default_terms() -> usize {
 fn default_curve() -> Curve {
     Curve::Loading
 }
-
-/// Default largest strain of a tangent-law fit.
-pub const TANGENT_LAW_STRAIN_MAX: f64 = 0.5;
 
 impl Homogenize {
     pub(crate) fn check(&mut self, c: &mut Checker, compression_to: Option<f64>) {
@@ -86,7 +83,7 @@ impl Homogenize {
             c.number_in("homogenize.eps0", e.0, 0.0, f64::INFINITY, true);
         }
         let fallback = if law {
-            Some(TANGENT_LAW_STRAIN_MAX)
+            Some(crate::homogenize::fit_hyperfoam::DEFAULT_STRAIN_MAX)
         } else {
             compression_to
         };

@@ -177,13 +177,13 @@ impl Context<'_> {
         let problems = problems
             .into_iter()
             .map(|(key, message)| {
-                let from_command_line = self.from_command_line(&key);
+                let is_from_command_line = self.is_from_command_line(&key);
                 Problem {
-                    line: (!from_command_line)
+                    line: (!is_from_command_line)
                         .then(|| self.original.line_of(&key))
                         .flatten(),
                     key,
-                    from_command_line,
+                    is_from_command_line,
                     message,
                 }
             })
@@ -195,7 +195,7 @@ impl Context<'_> {
     }
 
     /// Whether `key` was set (or created) by `--set`.
-    fn from_command_line(&self, key: &str) -> bool {
+    fn is_from_command_line(&self, key: &str) -> bool {
         let under = |a: &str, b: &str| {
             a == b || a.starts_with(&format!("{b}.")) || a.starts_with(&format!("{b}["))
         };
@@ -322,9 +322,8 @@ fn resolve(mut scene: Scene, file: &Path) -> Result<ResolvedScene, Vec<(String, 
     if let Some(s) = &scene.solver {
         s.check(&mut c);
     }
-    let z0 = scene.adhesion.as_ref().map(|a| a.z0.0);
     if let Some(s) = &mut scene.halfspace {
-        s.check(&mut c, z0);
+        s.check(&mut c);
     }
     if let Some(s) = &mut scene.turf {
         s.check(&mut c);

@@ -39,7 +39,7 @@ pub fn parse_path(key: &str) -> Option<Vec<Step>> {
             Some(i) => (&part[..i], &part[i..]),
             None => (part, ""),
         };
-        if name.is_empty() && steps.is_empty() {
+        if name.is_empty() && (steps.is_empty() || rest.is_empty()) {
             return None;
         }
         if !name.is_empty() {

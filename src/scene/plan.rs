@@ -20,7 +20,6 @@ use super::mesh::{
 use super::schedule::ScheduleTotals;
 use super::solver::{Kinematics, Solver};
 use super::Scene;
-use crate::units::BOLTZMANN_AJ_PER_K;
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::fmt;
@@ -191,12 +190,6 @@ impl ResolvedScene {
     }
 }
 
-/// Thermal amplitude of a free tube end, nm (seed eq. 5.9): u = (0.4243 l³kT/(Y(r_o⁴ − r_i⁴)))^½.
-pub fn thermal_amplitude(length: f64, temperature: f64, youngs: f64, r_o: f64, r_i: f64) -> f64 {
-    let kt = BOLTZMANN_AJ_PER_K * temperature;
-    (0.4243 * length.powi(3) * kt / (youngs * (r_o.powi(4) - r_i.powi(4)))).sqrt()
-}
-
 /// Decide the stages and physics of a checked scene and derive its numbers. Cross-section
 /// problems (a section that needs another, or that nothing uses) go to `c`.
 pub(crate) fn plan(
@@ -304,13 +297,14 @@ fn derive_contact(scene: &Scene, d: &mut Derived) {
             ThermalShift::Off => Some(0.0),
             ThermalShift::Amplitude(u) => Some(u.0),
             ThermalShift::FromTubes => match &scene.turf {
-                Some(t) => Some(thermal_amplitude(
-                    t.growth.length.0,
-                    a.temperature.0,
-                    t.tube.youngs.0,
-                    t.tube.r_o.0,
-                    t.tube.r_i.0,
-                )),
+                Some(t) => crate::theory::thermal::Cantilever {
+                    length: t.growth.length.0,
+                    r_outer: t.tube.r_o.0,
+                    r_inner: t.tube.r_i.0,
+                    youngs: t.tube.youngs.0,
+                }
+                .rms_tip_amplitude(a.temperature.0)
+                .ok(),
                 None => None,
             },
         };
@@ -785,13 +779,7 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
         put("tube count", n, "", "density × box area");
     }
     if let Some(h) = &scene.halfspace {
-        if let Some(e) = h.extent {
-            put("halfspace.extent", e.0, "nm", "");
-        }
-        if let Some(lo) = h.depth_min {
-            put("halfspace.depth_min", lo.0, "nm", "");
-        }
-        put("halfspace.depth_max", h.depth_max.0, "nm", "");
+        put("halfspace.cells_per_zone", h.cells_per_zone, "", "");
     }
     v
 }
@@ -799,15 +787,6 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn thermal_amplitude_matches_the_seed_value() {
-        // PHYSICS.md: l = 7 µm, T = 300 K, Y = 0.4 TPa, r_o = 20 nm, r_i = 17.3 nm → u ≈ 4.6 nm
-        // the seed quotes two significant figures: half a unit of the last one
-        const SEED_ROUNDING_NM: f64 = 0.05;
-        let u = thermal_amplitude(7000.0, 300.0, 400.0, 20.0, 17.3);
-        assert!((u - 4.6).abs() < SEED_ROUNDING_NM, "u = {u}");
-    }
 
     #[test]
     fn blunt_berkovich_radius_is_continuous_at_the_tip_depth() {
