@@ -11,6 +11,7 @@ use super::contact::Contact;
 use super::element::{self, Geometry, Kinematics, StepContext};
 use super::material::{Material, Voigt};
 use super::mesh::Mesh;
+use super::newton::{NewtonSystem, Point};
 use super::FeError;
 use crate::numerics::sparse::{SparseError, SparseSystem};
 use rayon::prelude::*;
@@ -137,6 +138,9 @@ pub struct Evaluation {
     pub gradient: Vec<f64>,
     /// P = ∂Π/∂δ, the indenter load, nN
     pub load: f64,
+    /// √(Σₑ ‖fₑ‖²) over the elements: the scale of the forces summed at the nodes, so of the
+    /// round-off in the residual, nN
+    pub force_scale: f64,
     /// tangent values in the pattern's order (empty if not asked for)
     pub values: Vec<f64>,
 }
@@ -208,6 +212,7 @@ impl Assembler {
             energy: 0.0,
             gradient: vec![0.0; solid.dofs()],
             load: 0.0,
+            force_scale: 0.0,
             values: Vec::new(),
         };
         if tangent {
@@ -216,6 +221,7 @@ impl Assembler {
         for (g, o) in solid.elements.iter().zip(&outs) {
             let d: [usize; 6] = dofs_of(&g.nodes);
             ev.energy += o.energy;
+            ev.force_scale += o.force.iter().map(|f| f * f).sum::<f64>();
             for (p, &dp) in d.iter().enumerate() {
                 ev.gradient[dp] += o.force[p];
                 if tangent {
@@ -252,6 +258,7 @@ impl Assembler {
         if tangent {
             ev.values.extend(self.fixed_dofs.iter().map(|_| 1.0));
         }
+        ev.force_scale = ev.force_scale.sqrt();
         if !ev.energy.is_finite() || ev.gradient.iter().any(|v| !v.is_finite()) {
             return Err(FeError::NonFinite("energy or forces".into()));
         }
@@ -293,4 +300,52 @@ fn dofs_of<const N: usize, const M: usize>(nodes: &[usize; N]) -> [usize; M] {
         d[2 * a + 1] = 2 * n + 1;
     }
     d
+}
+
+/// One increment's equilibrium problem, for [`super::newton::solve`]: the unknowns are all
+/// dofs (constrained ones keep the values they start with).
+pub struct Equilibrium<'a> {
+    /// pattern and factorisation
+    pub asm: &'a mut Assembler,
+    /// the solid
+    pub solid: &'a Solid,
+    /// the contact, if any
+    pub contact: Option<&'a Contact<'a>>,
+    /// history at the start of the step
+    pub history: &'a [f64],
+    /// time step, s
+    pub dt: f64,
+    /// indenter depth, nm
+    pub depth: f64,
+    /// smallest reference force for the convergence test, nN
+    pub force_floor: f64,
+}
+
+impl NewtonSystem for Equilibrium<'_> {
+    fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, String> {
+        let ev = self
+            .asm
+            .evaluate(
+                self.solid,
+                self.contact,
+                (x, self.history),
+                self.dt,
+                self.depth,
+                tangent,
+            )
+            .map_err(|e| e.to_string())?;
+        let gnorm = ev.gradient.iter().map(|g| g * g).sum::<f64>().sqrt();
+        Ok(Point {
+            energy: ev.energy,
+            residual: self.asm.residual(&ev.gradient),
+            reference: gnorm
+                .max(ev.load.abs())
+                .max(1e-3 * ev.force_scale)
+                .max(self.force_floor),
+            values: ev.values,
+        })
+    }
+    fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, String> {
+        self.asm.solve(values, rhs).map_err(|e| e.to_string())
+    }
 }

@@ -268,18 +268,28 @@ mod tests {
         let o = c.segment(x, x_ref, depth, small);
         assert!(o.energy != 0.0);
         let fmax = o.force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let kmax = o.stiffness.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+        let kmax = o
+            .stiffness
+            .iter()
+            .flatten()
+            .fold(0.0f64, |a, v| a.max(v.abs()));
         let h = 1e-6;
         for t in 0..4 {
             let (mut xp, mut xm) = (x, x);
             xp[t / 2][t % 2] += h;
             xm[t / 2][t % 2] -= h;
-            let (op, om) = (c.segment(xp, x_ref, depth, small), c.segment(xm, x_ref, depth, small));
+            let (op, om) = (
+                c.segment(xp, x_ref, depth, small),
+                c.segment(xm, x_ref, depth, small),
+            );
             let f_fd = (op.energy - om.energy) / (2.0 * h);
             assert!((f_fd - o.force[t]).abs() < FD_TOL * fmax, "force {t}");
             for s in 0..4 {
                 let k_fd = (op.force[s] - om.force[s]) / (2.0 * h);
-                assert!((k_fd - o.stiffness[s][t]).abs() < FD_TOL * kmax, "K[{s}][{t}]");
+                assert!(
+                    (k_fd - o.stiffness[s][t]).abs() < FD_TOL * kmax,
+                    "K[{s}][{t}]"
+                );
             }
         }
         let l_fd = (c.segment(x, x_ref, depth + h, small).energy
@@ -305,7 +315,9 @@ mod tests {
         // φ, p and k are continuous where the branches meet (g = 0 and g = h_r)
         for g in [0.0, 0.2] {
             let (a, b) = (law.eval(g - 1e-12), law.eval(g + 1e-12));
-            assert!((a.0 - b.0).abs() < 1e-10 && (a.1 - b.1).abs() < 1e-10 && (a.2 - b.2).abs() < 1e-10);
+            assert!(
+                (a.0 - b.0).abs() < 1e-10 && (a.1 - b.1).abs() < 1e-10 && (a.2 - b.2).abs() < 1e-10
+            );
         }
     }
 
@@ -321,7 +333,13 @@ mod tests {
         for small in [false, true] {
             check(&pen, sphere, x, 1.0, small);
             check(&lj, sphere, x, 0.5, small);
-            check(&lj, Indenter::berkovich_tangent(50.0), [[20.0, -4.0], [22.0, -4.2]], 6.0, small);
+            check(
+                &lj,
+                Indenter::berkovich_tangent(50.0),
+                [[20.0, -4.0], [22.0, -4.2]],
+                6.0,
+                small,
+            );
         }
     }
 

@@ -80,8 +80,13 @@ pub struct ElementOutput {
 }
 
 /// The reference geometry of triangle `nodes` at positions `x`.
-pub fn geometry(index: usize, nodes: [usize; 3], x: [[f64; 2]; 3]) -> Result<Geometry, ElementError> {
-    let two_a = (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[2][0] - x[0][0]) * (x[1][1] - x[0][1]);
+pub fn geometry(
+    index: usize,
+    nodes: [usize; 3],
+    x: [[f64; 2]; 3],
+) -> Result<Geometry, ElementError> {
+    let two_a =
+        (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[2][0] - x[0][0]) * (x[1][1] - x[0][1]);
     let r_c = (x[0][0] + x[1][0] + x[2][0]) / 3.0;
     if !(two_a > 0.0 && r_c > 0.0) {
         return Err(ElementError::BadGeometry(index));
@@ -325,7 +330,11 @@ mod tests {
             let out = evaluate(0, &g, &u, &ctx(kin, &m), &[], true).unwrap();
             let h = 1e-7;
             let fmax = out.force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            let kmax = out.stiffness.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+            let kmax = out
+                .stiffness
+                .iter()
+                .flatten()
+                .fold(0.0f64, |a, v| a.max(v.abs()));
             for q in 0..6 {
                 let (mut up, mut um) = (u, u);
                 up[q] += h;
@@ -333,7 +342,10 @@ mod tests {
                 let op = evaluate(0, &g, &up, &ctx(kin, &m), &[], true).unwrap();
                 let om = evaluate(0, &g, &um, &ctx(kin, &m), &[], true).unwrap();
                 let f_fd = (op.energy - om.energy) / (2.0 * h);
-                assert!((f_fd - out.force[q]).abs() < FD_TOL * fmax, "{kin:?} force {q}");
+                assert!(
+                    (f_fd - out.force[q]).abs() < FD_TOL * fmax,
+                    "{kin:?} force {q}"
+                );
                 for p in 0..6 {
                     let k_fd = (op.force[p] - om.force[p]) / (2.0 * h);
                     assert!(
@@ -363,7 +375,11 @@ mod tests {
             poisson: 0.3,
         };
         let fin = evaluate(0, &g, &u, &ctx(Kinematics::Finite, &m), &[], false).unwrap();
-        assert!(fin.force.iter().all(|f| f.abs() < ROT_TOL), "{:?}", fin.force);
+        assert!(
+            fin.force.iter().all(|f| f.abs() < ROT_TOL),
+            "{:?}",
+            fin.force
+        );
         assert!(fin.energy.abs() < ROT_TOL);
         let small = evaluate(0, &g, &u, &ctx(Kinematics::Small, &m), &[], false).unwrap();
         assert!(small.energy > 1e-3, "small strain is not objective");

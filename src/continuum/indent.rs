@@ -6,7 +6,7 @@
 //! the depth δ(t) follows the segments (load/unload at a rate, hold for a time); the load is
 //! P = ∂Π/∂δ.
 
-use super::assembly::{Assembler, AssemblyStats, Solid};
+use super::assembly::{Assembler, AssemblyStats, Equilibrium, Solid};
 use super::contact::{gauss_points, Contact, SmoothPenalty};
 use super::element::Kinematics;
 use super::indenter::Indenter;
@@ -15,7 +15,7 @@ use super::material::linear::LinearElastic;
 use super::material::viscoelastic::{validate_prony, PronyTerm, Viscoelastic};
 use super::material::{Elastic, Voigt};
 use super::mesh::{self, BlockSpec, Mesh, MeshReport};
-use super::newton::{self, NewtonParams, NewtonSystem, Point};
+use super::newton::{self, NewtonParams};
 use super::FeError;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -189,7 +189,10 @@ impl IndentParams {
                     to: 10.0,
                     rate: 10.0,
                 },
-                Segment::Unload { to: 0.0, rate: 10.0 },
+                Segment::Unload {
+                    to: 0.0,
+                    rate: 10.0,
+                },
             ],
             contact: ContactParams::default(),
             solver: SolverParams::default(),
@@ -224,7 +227,10 @@ impl IndentParams {
                     rate: 10.0,
                 },
                 Segment::Hold { time: 10.0 },
-                Segment::Unload { to: 0.0, rate: 10.0 },
+                Segment::Unload {
+                    to: 0.0,
+                    rate: 10.0,
+                },
             ],
             contact: ContactParams::default(),
             solver: SolverParams::default(),
@@ -271,14 +277,18 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
             }
             Segment::Hold { time } => {
                 if !(time > 0.0 && time.is_finite()) {
-                    return Err(FeError::Params(format!("hold time must be positive, got {time} s")));
+                    return Err(FeError::Params(format!(
+                        "hold time must be positive, got {time} s"
+                    )));
                 }
             }
         }
         max_depth = max_depth.max(depth);
     }
     if !(max_depth > 0.0) {
-        return Err(FeError::Params("the schedule never indents (no depth > 0)".into()));
+        return Err(FeError::Params(
+            "the schedule never indents (no depth > 0)".into(),
+        ));
     }
     let a = p.indenter.contact_radius_estimate(max_depth);
     let m = &p.mesh;
@@ -300,8 +310,11 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     let (e, nu) = p.material.elastic.initial_moduli();
     let e_star = e / (1.0 - nu * nu);
     let c = &p.contact;
-    if !(c.penalty_factor > 0.0 && c.range_fraction > 0.0 && (1..=3).contains(&c.quadrature_points)) {
-        return Err(FeError::Params(format!("unusable contact parameters {c:?}")));
+    if !(c.penalty_factor > 0.0 && c.range_fraction > 0.0 && (1..=3).contains(&c.quadrature_points))
+    {
+        return Err(FeError::Params(format!(
+            "unusable contact parameters {c:?}"
+        )));
     }
     Ok(Resolved {
         max_depth_nm: max_depth,
@@ -397,43 +410,6 @@ pub struct Progress {
     pub row: Row,
 }
 
-/// One increment's equilibrium problem for Newton.
-struct Step<'a> {
-    asm: &'a mut Assembler,
-    solid: &'a Solid,
-    contact: &'a Contact<'a>,
-    history: &'a [f64],
-    dt: f64,
-    depth: f64,
-    force_floor: f64,
-}
-
-impl NewtonSystem for Step<'_> {
-    fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, String> {
-        let ev = self
-            .asm
-            .evaluate(
-                self.solid,
-                Some(self.contact),
-                (x, self.history),
-                self.dt,
-                self.depth,
-                tangent,
-            )
-            .map_err(|e| e.to_string())?;
-        let gnorm = ev.gradient.iter().map(|g| g * g).sum::<f64>().sqrt();
-        Ok(Point {
-            energy: ev.energy,
-            residual: self.asm.residual(&ev.gradient),
-            reference: gnorm.max(ev.load.abs()).max(self.force_floor),
-            values: ev.values,
-        })
-    }
-    fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, String> {
-        self.asm.solve(values, rhs).map_err(|e| e.to_string())
-    }
-}
-
 /// Build the mesh of a run.
 fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
     match &p.mesh.gmsh_file {
@@ -507,7 +483,9 @@ pub fn run_indent(
 
     for (si, seg) in p.schedule.iter().enumerate() {
         let (target, duration) = match *seg {
-            Segment::Load { to, rate } | Segment::Unload { to, rate } => (to, (to - depth).abs() / rate),
+            Segment::Load { to, rate } | Segment::Unload { to, rate } => {
+                (to, (to - depth).abs() / rate)
+            }
             Segment::Hold { time } => (depth, time),
         };
         let (d0, t0) = (depth, time);
@@ -525,10 +503,10 @@ pub fn run_indent(
                     *xi += ratio * (ui - pi);
                 }
             }
-            let mut sys = Step {
+            let mut sys = Equilibrium {
                 asm: &mut asm,
                 solid: &solid,
-                contact: &contact,
+                contact: Some(&contact),
                 history: &history,
                 dt,
                 depth: new_depth,
@@ -536,7 +514,8 @@ pub fn run_indent(
             };
             match newton::solve(&mut sys, &mut x, &p.solver.newton) {
                 Ok(info) => {
-                    let ev = asm.evaluate(&solid, Some(&contact), (&x, &history), dt, new_depth, false)?;
+                    let ev =
+                        asm.evaluate(&solid, Some(&contact), (&x, &history), dt, new_depth, false)?;
                     solid.commit(&x, &mut history, dt)?;
                     u_prev = std::mem::replace(&mut u, x);
                     last_ddepth = ddepth;
@@ -553,7 +532,8 @@ pub fn run_indent(
                         time_s: time,
                         depth_nm: depth,
                         load_nN: ev.load,
-                        contact_radius_nm: contact.contact_radius(&contact.profile(&current, depth)),
+                        contact_radius_nm: contact
+                            .contact_radius(&contact.profile(&current, depth)),
                         iterations: info.iterations,
                     };
                     result.rows.push(row);

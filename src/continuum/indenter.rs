@@ -183,7 +183,10 @@ mod tests {
             xp[j] += h;
             xm[j] -= h;
             let (gp, gm) = (ind.gap(xp, depth), ind.gap(xm, depth));
-            assert!(((gp.gap - gm.gap) / (2.0 * h) - g.normal[j]).abs() < FD_TOL, "{x:?}");
+            assert!(
+                ((gp.gap - gm.gap) / (2.0 * h) - g.normal[j]).abs() < FD_TOL,
+                "{x:?}"
+            );
             for i in 0..2 {
                 let fd = (gp.normal[i] - gm.normal[i]) / (2.0 * h);
                 assert!((fd - g.hessian[i][j]).abs() < FD_TOL, "{x:?} H[{i}][{j}]");
@@ -221,7 +224,12 @@ mod tests {
         // the sphere near the tip agrees with the plain sphere
         let s = Indenter::Sphere { radius: 1800.0 };
         assert_eq!(b.gap([100.0, -1.0], 5.0), s.gap([100.0, -1.0], 5.0));
-        for x in [[100.0, -1.0], [700.0, -20.0], [1500.0, 0.0], [3000.0, -50.0]] {
+        for x in [
+            [100.0, -1.0],
+            [700.0, -20.0],
+            [1500.0, 0.0],
+            [3000.0, -50.0],
+        ] {
             check(&b, x, 30.0);
         }
         // a kinked (non-tangent) tip: the junction point region

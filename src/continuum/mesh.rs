@@ -102,7 +102,12 @@ pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
         grading,
     } = *spec;
     let ok = |v: f64| v > 0.0 && v.is_finite();
-    if !(ok(width) && ok(depth) && ok(h0) && grading >= 0.0 && fine_radius >= 0.0 && fine_depth >= 0.0)
+    if !(ok(width)
+        && ok(depth)
+        && ok(h0)
+        && grading >= 0.0
+        && fine_radius >= 0.0
+        && fine_depth >= 0.0)
     {
         return Err(MeshError::Invalid(format!("unusable block sizes {spec:?}")));
     }
@@ -194,8 +199,16 @@ pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
     surface.sort_unstable();
     Ok(Mesh {
         surface: surface.into_iter().map(|(_, n)| n).collect(),
-        axis: ids.iter().filter(|(k, _)| k.0 == 0).map(|(_, &n)| n).collect(),
-        bottom: ids.iter().filter(|(k, _)| k.1 == jmax).map(|(_, &n)| n).collect(),
+        axis: ids
+            .iter()
+            .filter(|(k, _)| k.0 == 0)
+            .map(|(_, &n)| n)
+            .collect(),
+        bottom: ids
+            .iter()
+            .filter(|(k, _)| k.1 == jmax)
+            .map(|(_, &n)| n)
+            .collect(),
         nodes,
         triangles,
         width: nx as f64 * root,
@@ -242,9 +255,9 @@ fn balance(leaves: &mut BTreeSet<Cell>, nx: u64, ny: u64) {
                 let k = 2 * (j - 1) + 1;
                 nbrs.push(((l, i, j - 1), [(c, 2 * i, k), (c, 2 * i + 1, k)]));
             }
-            let too_fine = nbrs.iter().any(|(n, kids)| {
-                !covered(leaves, *n) && kids.iter().any(|k| !leaves.contains(k))
-            });
+            let too_fine = nbrs
+                .iter()
+                .any(|(n, kids)| !covered(leaves, *n) && kids.iter().any(|k| !leaves.contains(k)));
             if too_fine {
                 split.push((l, i, j));
             }
@@ -310,7 +323,10 @@ pub fn read_msh(text: &str) -> Result<Mesh, MeshError> {
     let lines: Vec<&str> = text.lines().collect();
     let find = |tag: &str| lines.iter().position(|l| l.trim() == tag);
     let (Some(nstart), Some(estart)) = (find("$Nodes"), find("$Elements")) else {
-        return Err(err(0, "missing $Nodes or $Elements (only format 2.2 is read)"));
+        return Err(err(
+            0,
+            "missing $Nodes or $Elements (only format 2.2 is read)",
+        ));
     };
     let count = |at: usize| -> Result<usize, MeshError> {
         lines
@@ -347,13 +363,16 @@ pub fn read_msh(text: &str) -> Result<Mesh, MeshError> {
             continue;
         }
         let ntags = f[2];
-        let ids = f.get(3 + ntags..6 + ntags).ok_or_else(|| err(ln, "short triangle"))?;
+        let ids = f
+            .get(3 + ntags..6 + ntags)
+            .ok_or_else(|| err(ln, "short triangle"))?;
         let mut t = [0usize; 3];
         for (slot, id) in t.iter_mut().zip(ids) {
             *slot = *index.get(id).ok_or_else(|| err(ln, "unknown node"))?;
         }
         let p = t.map(|n| nodes[n]);
-        let two_a = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+        let two_a =
+            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
         if two_a < 0.0 {
             t.swap(1, 2);
         }
@@ -367,13 +386,19 @@ pub fn read_msh(text: &str) -> Result<Mesh, MeshError> {
         |a, p| (a.0.max(p[0]), a.1.max(p[1]), a.2.min(p[1])),
     );
     let tol = 1e-9 * (rmax.max(zmax - zmin));
-    let mut surface: Vec<usize> = (0..nodes.len()).filter(|&n| (nodes[n][1] - zmax).abs() <= tol).collect();
+    let mut surface: Vec<usize> = (0..nodes.len())
+        .filter(|&n| (nodes[n][1] - zmax).abs() <= tol)
+        .collect();
     surface.sort_by(|&a, &b| nodes[a][0].total_cmp(&nodes[b][0]));
     // shift so the surface is at z = 0
     nodes.iter_mut().for_each(|p| p[1] -= zmax);
     Ok(Mesh {
-        axis: (0..nodes.len()).filter(|&n| nodes[n][0].abs() <= tol).collect(),
-        bottom: (0..nodes.len()).filter(|&n| (nodes[n][1] - (zmin - zmax)).abs() <= tol).collect(),
+        axis: (0..nodes.len())
+            .filter(|&n| nodes[n][0].abs() <= tol)
+            .collect(),
+        bottom: (0..nodes.len())
+            .filter(|&n| (nodes[n][1] - (zmin - zmax)).abs() <= tol)
+            .collect(),
         surface,
         nodes,
         triangles,
@@ -440,7 +465,10 @@ mod tests {
                 assert_eq!(n, 2);
             }
         }
-        assert!(m.surface.windows(2).all(|w| m.nodes[w[0]][0] < m.nodes[w[1]][0]));
+        assert!(m
+            .surface
+            .windows(2)
+            .all(|w| m.nodes[w[0]][0] < m.nodes[w[1]][0]));
         assert!(m.axis.iter().all(|&n| m.nodes[n][0] == 0.0));
     }
 

@@ -25,6 +25,9 @@ pub struct NewtonParams {
     pub max_backtracks: usize,
     /// Armijo constant c
     pub armijo: f64,
+    /// a residual below this fraction of the first one that no longer halves per iteration has
+    /// reached round-off (e.g. of C − I in large, barely strained elements): converged
+    pub stagnation: f64,
 }
 
 impl Default for NewtonParams {
@@ -35,6 +38,7 @@ impl Default for NewtonParams {
             atol: 1e-12,
             max_backtracks: 20,
             armijo: 1e-4,
+            stagnation: 1e-8,
         }
     }
 }
@@ -114,7 +118,11 @@ pub fn solve(
     loop {
         let rn = norm(&pt.residual);
         info.residuals.push(rn);
-        if rn <= (params.rtol * pt.reference).max(params.atol) {
+        let r0 = info.residuals[0];
+        let stalled = info.residuals.len() > 1
+            && rn <= params.stagnation * r0
+            && rn > 0.5 * info.residuals[info.residuals.len() - 2];
+        if rn <= (params.rtol * pt.reference).max(params.atol) || stalled {
             return Ok(info);
         }
         if info.iterations >= params.max_iterations {
@@ -137,7 +145,8 @@ pub fn solve(
             match sys.evaluate(&trial, true) {
                 Ok(next) => {
                     let allowance = 1e-12 * pt.energy.abs();
-                    let armijo = next.energy <= pt.energy + params.armijo * s * slope.min(0.0) + allowance;
+                    let armijo =
+                        next.energy <= pt.energy + params.armijo * s * slope.min(0.0) + allowance;
                     if armijo || norm(&next.residual) < rn {
                         accepted = Some(next);
                         break;
@@ -187,7 +196,11 @@ mod tests {
                     .zip(&self.b)
                     .map(|(x, b)| x.powi(4) / 4.0 + x * x / 2.0 - b * x)
                     .sum(),
-                residual: x.iter().zip(&self.b).map(|(x, b)| x.powi(3) + x - b).collect(),
+                residual: x
+                    .iter()
+                    .zip(&self.b)
+                    .map(|(x, b)| x.powi(3) + x - b)
+                    .collect(),
                 reference: norm(&self.b),
                 values: x.iter().map(|x| 3.0 * x * x + 1.0).collect(),
             })
@@ -210,7 +223,10 @@ mod tests {
         // the last steps are quadratic
         let r = &info.residuals;
         let n = r.len();
-        assert!(r[n - 1] < 1e-3 * r[n - 2].max(1e-30) || r[n - 1] == 0.0, "{r:?}");
+        assert!(
+            r[n - 1] < 1e-3 * r[n - 2].max(1e-30) || r[n - 1] == 0.0,
+            "{r:?}"
+        );
     }
 
     #[test]
@@ -226,6 +242,8 @@ mod tests {
             },
         )
         .unwrap_err();
-        assert!(matches!(e, NewtonError::NoConvergence { iterations: 2, ref residuals } if residuals.len() == 3));
+        assert!(
+            matches!(e, NewtonError::NoConvergence { iterations: 2, ref residuals } if residuals.len() == 3)
+        );
     }
 }

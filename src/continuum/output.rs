@@ -95,7 +95,12 @@ impl IndentResult {
     /// The deformed mesh as a VTK grid (points at x = X + u in the (r, z) plane).
     fn grid(&self, u: &[f64], stress: &[[f64; 4]]) -> Grid {
         let m = &self.mesh;
-        let names = ["stress_rr_GPa", "stress_zz_GPa", "stress_tt_GPa", "stress_rz_GPa"];
+        let names = [
+            "stress_rr_GPa",
+            "stress_zz_GPa",
+            "stress_tt_GPa",
+            "stress_rz_GPa",
+        ];
         let mut cell_data: Vec<DataArray> = names
             .iter()
             .enumerate()

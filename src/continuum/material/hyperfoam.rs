@@ -59,7 +59,9 @@ impl Hyperfoam {
     /// Check there is a term, every α ≠ 0, β > −1/3, and the initial moduli are positive.
     pub fn validate(&self) -> Result<(), MaterialError> {
         if self.terms.is_empty() {
-            return Err(MaterialError::Invalid("hyperfoam needs at least one term".into()));
+            return Err(MaterialError::Invalid(
+                "hyperfoam needs at least one term".into(),
+            ));
         }
         for t in &self.terms {
             if !(t.alpha.abs() > 0.0 && t.alpha.is_finite() && t.mu.is_finite()) {
@@ -91,7 +93,11 @@ fn eigen_2x2(a: f64, b: f64, d: f64) -> (f64, f64, [f64; 2], [f64; 2]) {
     let r = (0.5 * (a - d)).hypot(b);
     let c1 = m + r;
     let c2 = (a * d - b * b) / c1;
-    let th = if r == 0.0 { 0.0 } else { 0.5 * (2.0 * b).atan2(a - d) };
+    let th = if r == 0.0 {
+        0.0
+    } else {
+        0.5 * (2.0 * b).atan2(a - d)
+    };
     let (s, c) = th.sin_cos();
     (c1, c2, [c, s], [-s, c])
 }
@@ -199,8 +205,8 @@ mod tests {
         let m = foam();
         for c in [
             [0.8, 1.1, 0.95, 0.05],
-            [0.7, 0.7, 1.05, 0.0],  // repeated in-plane eigenvalues
-            [1.0, 1.0, 1.0, 0.0],   // reference state
+            [0.7, 0.7, 1.05, 0.0],         // repeated in-plane eigenvalues
+            [1.0, 1.0, 1.0, 0.0],          // reference state
             [0.9, 0.9 + 1e-9, 0.9, 1e-10], // nearly repeated
         ] {
             let (es, ed) = fd::mismatch(&m, &c, &[], 0.0);

@@ -106,7 +106,11 @@ mod tests {
         let eps = 1e-3;
         let lat = -0.25 * eps;
         let r = m
-            .response(&[1.0 + 2.0 * lat, 1.0 + 2.0 * eps, 1.0 + 2.0 * lat, 0.0], &[], 0.0)
+            .response(
+                &[1.0 + 2.0 * lat, 1.0 + 2.0 * eps, 1.0 + 2.0 * lat, 0.0],
+                &[],
+                0.0,
+            )
             .unwrap();
         assert!((r.stress[1] - 3.0 * eps).abs() < 1e-14);
         assert!(r.stress[0].abs() < 1e-14 && r.stress[2].abs() < 1e-14);

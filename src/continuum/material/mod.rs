@@ -204,7 +204,11 @@ pub(crate) mod fd {
     pub fn mismatch(m: &dyn Material, c: &Voigt, history: &[f64], dt: f64) -> (f64, f64) {
         let r = m.response(c, history, dt).unwrap();
         // stresses are compared at the scale of the tangent too: S vanishes at C = I
-        let dmax = r.tangent.iter().flatten().fold(1e-300f64, |a, v| a.max(v.abs()));
+        let dmax = r
+            .tangent
+            .iter()
+            .flatten()
+            .fold(1e-300f64, |a, v| a.max(v.abs()));
         let smax = r.stress.iter().fold(dmax, |a, v| a.max(v.abs()));
         let (mut es, mut ed) = (0.0f64, 0.0f64);
         for j in 0..4 {

@@ -37,7 +37,11 @@ pub struct Viscoelastic<M> {
 /// Check Σgᵢ < 1, gᵢ ≥ 0 and τᵢ > 0.
 pub fn validate_prony(prony: &[PronyTerm]) -> Result<(), MaterialError> {
     let sum: f64 = prony.iter().map(|t| t.g).sum();
-    if prony.iter().any(|t| !(t.g >= 0.0 && t.tau > 0.0 && t.tau.is_finite())) || !(sum < 1.0) {
+    if prony
+        .iter()
+        .any(|t| !(t.g >= 0.0 && t.tau > 0.0 && t.tau.is_finite()))
+        || !(sum < 1.0)
+    {
         return Err(MaterialError::Invalid(format!(
             "Prony terms need g ≥ 0, Σg < 1 and τ > 0, got {prony:?}"
         )));
@@ -47,7 +51,10 @@ pub fn validate_prony(prony: &[PronyTerm]) -> Result<(), MaterialError> {
 
 /// g(t) of a Prony series.
 pub fn relaxation(prony: &[PronyTerm], t: f64) -> f64 {
-    1.0 - prony.iter().map(|p| p.g * (1.0 - (-t / p.tau).exp())).sum::<f64>()
+    1.0 - prony
+        .iter()
+        .map(|p| p.g * (1.0 - (-t / p.tau).exp()))
+        .sum::<f64>()
 }
 
 /// e^(−x) and (1 − e^(−x))/x for x = Δt/τ (→ 1 as x → 0).
@@ -155,7 +162,10 @@ mod tests {
             m.update_history(&c, &mut hist, dt).unwrap();
             let g = relaxation(&m.prony, t);
             for k in 0..4 {
-                assert!((s[k] - g * s0[k]).abs() < RELAX_TOL * s0[1].abs(), "t = {t}");
+                assert!(
+                    (s[k] - g * s0[k]).abs() < RELAX_TOL * s0[1].abs(),
+                    "t = {t}"
+                );
             }
         }
     }
@@ -164,7 +174,8 @@ mod tests {
     fn algorithmic_stress_and_tangent_derive_from_the_incremental_potential() {
         let m = model();
         let mut hist = vec![0.0; m.history_len()];
-        m.update_history(&[0.95, 0.8, 1.0, 0.01], &mut hist, 0.3).unwrap();
+        m.update_history(&[0.95, 0.8, 1.0, 0.01], &mut hist, 0.3)
+            .unwrap();
         let (es, ed) = fd::mismatch(&m, &[0.9, 0.75, 1.02, 0.03], &hist, 0.4);
         assert!(es < FD_TOL && ed < FD_TOL, "{es} {ed}");
     }
