@@ -1,1 +1,62 @@
-//! Axisymmetric finite-deformation FE indentation (seed chapter 4): mesh, elements, materials, contact, machine, driver.
+//! Axisymmetric finite-deformation FE indentation (seed chapter 4): a rigid indenter pressed
+//! into a block of linear, hyperfoam or viscoelastic material, under displacement control.
+//!
+//! The total potential of an increment is Π(u) = Σₑ wₑ ψ(Cₑ) + ∫ φ(g) dA, minimised by Newton;
+//! every force is its exact gradient, every tangent its exact Hessian (checked by finite
+//! differences in each module's tests).
+//!
+//! - [`mesh`]: graded quadtree triangulation of the block (or a Gmsh file), with a report.
+//! - [`element`]: the axisymmetric CST, total Lagrangian (F with the hoop stretch r/R) or small
+//!   strain; the 2πr weight lives in [`element::volume_weight`].
+//! - [`material`]: the [`material::Material`] trait; linear, hyperfoam, viscoelastic (Prony).
+//! - [`indenter`]: sphere and blunt Berkovich — gap, normal and curvature.
+//! - [`contact`]: Π_c = ∫φ(g) dA over the current surface with any [`contact::SurfaceLaw`]
+//!   (a repulsive penalty here; Lennard-Jones plugs into the same code).
+//! - [`assembly`]: parallel element kernels, deterministic scatter, sparse solves via faer.
+//! - [`newton`]: Newton with line search (Params/Info/Error).
+//! - [`indent`]: the driver, [`run_indent`] on [`IndentParams`] → [`IndentResult`].
+//! - [`output`]: CSV, summary, plots and VTU files ([`IndentResult::write`]).
+
+// `!(x > 0.0)` is used on purpose: it also rejects NaN. Index loops mirror the formulas.
+#![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
+
+pub mod assembly;
+pub mod contact;
+pub mod element;
+pub mod indent;
+pub mod indenter;
+pub mod material;
+pub mod mesh;
+pub mod newton;
+pub mod output;
+
+pub use indent::{run_indent, IndentParams, IndentResult, Segment};
+
+/// Why a continuum run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum FeError {
+    /// the parameters are unusable
+    #[error("continuum parameters: {0}")]
+    Params(String),
+    /// the mesh could not be built or read
+    #[error(transparent)]
+    Mesh(#[from] mesh::MeshError),
+    /// an element failed (inverted, material)
+    #[error(transparent)]
+    Element(#[from] element::ElementError),
+    /// the material parameters are invalid
+    #[error(transparent)]
+    Material(#[from] material::MaterialError),
+    /// the linear solve failed
+    #[error(transparent)]
+    Sparse(#[from] crate::numerics::sparse::SparseError),
+    /// a NaN or infinity appeared
+    #[error("non-finite {0}")]
+    NonFinite(String),
+    /// the run stopped midway; what it finished is kept (its `failure` says why)
+    #[error("continuum run stopped: {}", .0.failure.as_deref().unwrap_or("unknown"))]
+    Stopped(Box<IndentResult>),
+    /// results could not be written
+    #[error(transparent)]
+    Report(#[from] crate::report::ReportError),
+}

@@ -1,0 +1,351 @@
+//! Global assembly: element kernels evaluated in parallel (rayon), results scattered
+//! sequentially in element order, so the sums — and the numbers — are the same with any number
+//! of threads. The sparse pattern (every element's 6×6 block, every surface segment's 4×4
+//! block, a unit diagonal entry per constrained dof) is built once per mesh; faer sums the
+//! duplicates in a fixed order and the symbolic factorisation is reused for every solve.
+//!
+//! Constrained dofs keep their prescribed values: their residual entries are zeroed (the
+//! gradient keeps them as reactions), their rows and columns carry only the unit diagonal.
+
+use super::contact::Contact;
+use super::element::{self, Geometry, Kinematics, StepContext};
+use super::material::{Material, Voigt};
+use super::mesh::Mesh;
+use super::newton::{NewtonSystem, Point};
+use super::FeError;
+use crate::numerics::sparse::{SparseError, SparseSystem};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// The discretised solid: reference nodes, elements, constitutive model and constraints.
+pub struct Solid {
+    /// reference node positions (r, z), nm
+    pub nodes: Vec<[f64; 2]>,
+    /// element geometry
+    pub elements: Vec<Geometry>,
+    /// element kinematics
+    pub kinematics: Kinematics,
+    /// constitutive model
+    pub material: Box<dyn Material>,
+    /// per dof (2 per node: u_r, u_z): true if prescribed
+    pub fixed: Vec<bool>,
+}
+
+impl Solid {
+    /// The solid on `mesh`, with no constraints yet.
+    pub fn new(
+        mesh: &Mesh,
+        kinematics: Kinematics,
+        material: Box<dyn Material>,
+    ) -> Result<Self, FeError> {
+        let elements = mesh
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(e, t)| element::geometry(e, *t, t.map(|n| mesh.nodes[n])))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Solid {
+            nodes: mesh.nodes.clone(),
+            elements,
+            kinematics,
+            material,
+            fixed: vec![false; 2 * mesh.nodes.len()],
+        })
+    }
+
+    /// Number of dofs.
+    pub fn dofs(&self) -> usize {
+        2 * self.nodes.len()
+    }
+
+    /// History values per element.
+    pub fn history_len(&self) -> usize {
+        self.material.history_len()
+    }
+
+    fn local(&self, g: &Geometry, u: &[f64]) -> [f64; 6] {
+        let mut ue = [0.0; 6];
+        for (a, &n) in g.nodes.iter().enumerate() {
+            ue[2 * a] = u[2 * n];
+            ue[2 * a + 1] = u[2 * n + 1];
+        }
+        ue
+    }
+
+    fn context(&self, dt: f64) -> StepContext<'_> {
+        StepContext {
+            kinematics: self.kinematics,
+            material: self.material.as_ref(),
+            dt,
+        }
+    }
+
+    /// Advance every element's history to the end of a converged step.
+    pub fn commit(&self, u: &[f64], history: &mut [f64], dt: f64) -> Result<(), FeError> {
+        let h = self.history_len();
+        if h == 0 {
+            return Ok(());
+        }
+        for (e, (g, hist)) in self.elements.iter().zip(history.chunks_mut(h)).enumerate() {
+            let s = element::strain(g, &self.local(g, u), self.kinematics);
+            self.material
+                .update_history(&s.c, hist, dt)
+                .map_err(|source| element::ElementError::Material { element: e, source })?;
+        }
+        Ok(())
+    }
+
+    /// Cauchy stress of every element (GPa, Voigt [rr, zz, θθ, rz]) after a converged step.
+    pub fn stresses(&self, u: &[f64], history: &[f64], dt: f64) -> Result<Vec<Voigt>, FeError> {
+        let h = self.history_len();
+        self.elements
+            .par_iter()
+            .enumerate()
+            .map(|(e, g)| {
+                let s = element::strain(g, &self.local(g, u), self.kinematics);
+                let hist = &history[e * h..(e + 1) * h];
+                let r = self
+                    .material
+                    .response(&s.c, hist, dt)
+                    .map_err(|source| element::ElementError::Material { element: e, source })?;
+                Ok(element::cauchy(&s, &r.stress, self.kinematics))
+            })
+            .collect()
+    }
+}
+
+/// Totals of the work done, for the benchmarks.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct AssemblyStats {
+    /// evaluations of energy, forces and tangent
+    pub assemblies: usize,
+    /// wall time in assembly, s
+    pub assembly_s: f64,
+    /// linear solves (numeric factorisation + solve)
+    pub solves: usize,
+    /// wall time in linear solves, s
+    pub solve_s: f64,
+    /// solves where Cholesky failed and LU was used
+    pub lu_fallbacks: usize,
+}
+
+/// Energy, gradient and tangent of the whole problem at one state.
+#[derive(Debug, Clone, Default)]
+pub struct Evaluation {
+    /// Π, aJ
+    pub energy: f64,
+    /// ∂Π/∂u for every dof (reactions on the constrained ones), nN
+    pub gradient: Vec<f64>,
+    /// P = ∂Π/∂δ, the indenter load, nN
+    pub load: f64,
+    /// √(Σₑ ‖fₑ‖²) over the elements: the scale of the forces summed at the nodes, so of the
+    /// round-off in the residual, nN
+    pub force_scale: f64,
+    /// tangent values in the pattern's order (empty if not asked for)
+    pub values: Vec<f64>,
+}
+
+/// The sparse pattern of a solid (and contact surface) with its factorisation.
+pub struct Assembler {
+    system: SparseSystem,
+    fixed_dofs: Vec<usize>,
+    /// the work done so far
+    pub stats: AssemblyStats,
+}
+
+impl Assembler {
+    /// Build the pattern once.
+    pub fn new(solid: &Solid, contact: Option<&Contact>) -> Result<Self, FeError> {
+        let mut pos = Vec::with_capacity(36 * solid.elements.len());
+        for g in &solid.elements {
+            let d: [usize; 6] = dofs_of(&g.nodes);
+            for p in d {
+                for q in d {
+                    pos.push((p, q));
+                }
+            }
+        }
+        if let Some(c) = contact {
+            for s in &c.segments {
+                let d: [usize; 4] = dofs_of(s);
+                for p in d {
+                    for q in d {
+                        pos.push((p, q));
+                    }
+                }
+            }
+        }
+        let fixed_dofs: Vec<usize> = (0..solid.dofs()).filter(|&d| solid.fixed[d]).collect();
+        pos.extend(fixed_dofs.iter().map(|&d| (d, d)));
+        Ok(Assembler {
+            system: SparseSystem::new(solid.dofs(), &pos)?,
+            fixed_dofs,
+            stats: AssemblyStats::default(),
+        })
+    }
+
+    /// Energy, gradient, load and (if `tangent`) the tangent at displacements `u` with the
+    /// indenter at `depth`, history at the start of a step of length `dt`.
+    pub fn evaluate(
+        &mut self,
+        solid: &Solid,
+        contact: Option<&Contact>,
+        state: (&[f64], &[f64]),
+        dt: f64,
+        depth: f64,
+        tangent: bool,
+    ) -> Result<Evaluation, FeError> {
+        let t0 = Instant::now();
+        let (u, history) = state;
+        let h = solid.history_len();
+        let ctx = solid.context(dt);
+        let outs = solid
+            .elements
+            .par_iter()
+            .enumerate()
+            .map(|(e, g)| {
+                let hist = &history[e * h..(e + 1) * h];
+                element::evaluate(e, g, &solid.local(g, u), &ctx, hist, tangent)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut ev = Evaluation {
+            energy: 0.0,
+            gradient: vec![0.0; solid.dofs()],
+            load: 0.0,
+            force_scale: 0.0,
+            values: Vec::new(),
+        };
+        if tangent {
+            ev.values.reserve(36 * outs.len());
+        }
+        for (g, o) in solid.elements.iter().zip(&outs) {
+            let d: [usize; 6] = dofs_of(&g.nodes);
+            ev.energy += o.energy;
+            ev.force_scale += o.force.iter().map(|f| f * f).sum::<f64>();
+            for (p, &dp) in d.iter().enumerate() {
+                ev.gradient[dp] += o.force[p];
+                if tangent {
+                    for (q, &dq) in d.iter().enumerate() {
+                        let free = !solid.fixed[dp] && !solid.fixed[dq];
+                        ev.values.push(if free { o.stiffness[p][q] } else { 0.0 });
+                    }
+                }
+            }
+        }
+        if let Some(c) = contact {
+            let small = solid.kinematics == Kinematics::Small;
+            for s in &c.segments {
+                let x_ref = [solid.nodes[s[0]], solid.nodes[s[1]]];
+                let x = [0, 1].map(|a| {
+                    let n = s[a];
+                    [x_ref[a][0] + u[2 * n], x_ref[a][1] + u[2 * n + 1]]
+                });
+                let o = c.segment(x, x_ref, depth, small);
+                let d: [usize; 4] = dofs_of(s);
+                ev.energy += o.energy;
+                ev.load += o.load;
+                for (p, &dp) in d.iter().enumerate() {
+                    ev.gradient[dp] += o.force[p];
+                    if tangent {
+                        for (q, &dq) in d.iter().enumerate() {
+                            let free = !solid.fixed[dp] && !solid.fixed[dq];
+                            ev.values.push(if free { o.stiffness[p][q] } else { 0.0 });
+                        }
+                    }
+                }
+            }
+        }
+        if tangent {
+            ev.values.extend(self.fixed_dofs.iter().map(|_| 1.0));
+        }
+        ev.force_scale = ev.force_scale.sqrt();
+        if !ev.energy.is_finite() || ev.gradient.iter().any(|v| !v.is_finite()) {
+            return Err(FeError::NonFinite("energy or forces".into()));
+        }
+        self.stats.assemblies += 1;
+        self.stats.assembly_s += t0.elapsed().as_secs_f64();
+        Ok(ev)
+    }
+
+    /// The residual: the gradient with constrained entries zeroed.
+    pub fn residual(&self, gradient: &[f64]) -> Vec<f64> {
+        let mut r = gradient.to_vec();
+        for &d in &self.fixed_dofs {
+            r[d] = 0.0;
+        }
+        r
+    }
+
+    /// Solve K d = rhs: Cholesky, or LU when K is not positive definite.
+    pub fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, FeError> {
+        let t0 = Instant::now();
+        let out = match self.system.solve_spd(values, rhs) {
+            Err(SparseError::NotPositiveDefinite) => {
+                self.stats.lu_fallbacks += 1;
+                self.system.solve_lu(values, rhs)
+            }
+            other => other,
+        };
+        self.stats.solves += 1;
+        self.stats.solve_s += t0.elapsed().as_secs_f64();
+        Ok(out?)
+    }
+}
+
+/// The dofs (u_r, u_z per node) of `N` nodes; `M` = 2N.
+fn dofs_of<const N: usize, const M: usize>(nodes: &[usize; N]) -> [usize; M] {
+    let mut d = [0; M];
+    for (a, &n) in nodes.iter().enumerate() {
+        d[2 * a] = 2 * n;
+        d[2 * a + 1] = 2 * n + 1;
+    }
+    d
+}
+
+/// One increment's equilibrium problem, for [`super::newton::solve`]: the unknowns are all
+/// dofs (constrained ones keep the values they start with).
+pub struct Equilibrium<'a> {
+    /// pattern and factorisation
+    pub asm: &'a mut Assembler,
+    /// the solid
+    pub solid: &'a Solid,
+    /// the contact, if any
+    pub contact: Option<&'a Contact<'a>>,
+    /// history at the start of the step
+    pub history: &'a [f64],
+    /// time step, s
+    pub dt: f64,
+    /// indenter depth, nm
+    pub depth: f64,
+    /// smallest reference force for the convergence test, nN
+    pub force_floor: f64,
+}
+
+impl NewtonSystem for Equilibrium<'_> {
+    fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, String> {
+        let ev = self
+            .asm
+            .evaluate(
+                self.solid,
+                self.contact,
+                (x, self.history),
+                self.dt,
+                self.depth,
+                tangent,
+            )
+            .map_err(|e| e.to_string())?;
+        let gnorm = ev.gradient.iter().map(|g| g * g).sum::<f64>().sqrt();
+        Ok(Point {
+            energy: ev.energy,
+            residual: self.asm.residual(&ev.gradient),
+            reference: gnorm
+                .max(ev.load.abs())
+                .max(1e-3 * ev.force_scale)
+                .max(self.force_floor),
+            values: ev.values,
+        })
+    }
+    fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, String> {
+        self.asm.solve(values, rhs).map_err(|e| e.to_string())
+    }
+}

@@ -1,0 +1,370 @@
+//! Frictionless interaction of the specimen's surface with the rigid indenter through a
+//! surface law: Π_c = ∫ φ(g) dA over the current surface, dA = 2πr ds (seed §4.2, eq. 4.1 for
+//! the Lennard-Jones law of the adhesion issue).
+//!
+//! The surface z = 0 is a chain of straight segments between surface nodes x₁, x₂. On each,
+//! Gauss–Legendre points ξ_q with weights w_q on [0, 1] give
+//!
+//! Π_seg = 2π Σ_q w_q L r_q φ(g(x_q)),  x_q = (1 − ξ_q)x₁ + ξ_q x₂,  L = |x₂ − x₁|,
+//!
+//! whose gradient and Hessian in (x₁, x₂) are exact: with φ′ = −p, φ″ = −k (k = dp/dg),
+//! ∂φ = −p ∇g Nₐ, ∂²φ = (−k ∇g⊗∇g − p ∇²g) NₐN_b, ∂L = [−e, e], ∂²L = (I − e⊗e)/L blocks,
+//! ∂r_q = Nₐ on the r components; the product rule on L·r·φ gives the rest. Under small
+//! kinematics L and r are the reference ones and only φ varies. The load on the indenter is
+//! P = ∂Π_c/∂δ = −2π Σ w L r p n_z (compressive positive, since ∂g/∂δ = n_z).
+//!
+//! The law enters only through [`SurfaceLaw::eval`] → (φ, p, k), so the Lennard-Jones law of
+//! [`crate::laws`] plugs into the same code (implemented below). For frictionless contact
+//! without adhesion, [`SmoothPenalty`] is purely repulsive: zero beyond the range h_r,
+//! p = k_n (h_r − g)²/(2h_r) for 0 ≤ g < h_r, and p = k_n(h_r/2 − g) for g < 0 (φ and p
+//! continuous, k continuous): a C² energy, so Newton sees no jump in the tangent. The contact
+//! sits at g ≈ h_r/2 − p/k_n, a depth offset that the default sizes make ≲ 0.3 % of the
+//! Hertz depth.
+
+use super::indenter::Indenter;
+use super::mesh::Mesh;
+use crate::laws::LennardJones;
+use serde::{Deserialize, Serialize};
+
+/// A force–separation law: energy per area φ (J/m²), pressure p = −dφ/dg (GPa, positive
+/// repulsive) and stiffness k = dp/dg (GPa/nm) at gap g (nm).
+pub trait SurfaceLaw: Send + Sync {
+    /// (φ, p, k) at gap `g`.
+    fn eval(&self, g: f64) -> (f64, f64, f64);
+    /// Gap at which the pressure changes sign (the edge of contact), nm.
+    fn contact_gap(&self) -> f64;
+}
+
+impl SurfaceLaw for LennardJones {
+    fn eval(&self, g: f64) -> (f64, f64, f64) {
+        LennardJones::eval(self, g)
+    }
+    fn contact_gap(&self) -> f64 {
+        self.z0
+    }
+}
+
+/// A purely repulsive, C² smoothed penalty law.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SmoothPenalty {
+    /// penalty stiffness k_n, GPa/nm
+    pub stiffness: f64,
+    /// range h_r below which the law acts, nm
+    pub range: f64,
+}
+
+impl SurfaceLaw for SmoothPenalty {
+    fn eval(&self, g: f64) -> (f64, f64, f64) {
+        let (k, h) = (self.stiffness, self.range);
+        if g >= h {
+            (0.0, 0.0, 0.0)
+        } else if g >= 0.0 {
+            let d = h - g;
+            (k * d * d * d / (6.0 * h), k * d * d / (2.0 * h), -k * d / h)
+        } else {
+            (
+                k * h * h / 6.0 - 0.5 * k * h * g + 0.5 * k * g * g,
+                k * (0.5 * h - g),
+                -k,
+            )
+        }
+    }
+    fn contact_gap(&self) -> f64 {
+        self.range
+    }
+}
+
+/// Gauss–Legendre points and weights on [0, 1].
+pub fn gauss_points(n: usize) -> Vec<(f64, f64)> {
+    let s = |x: f64| 0.5 * (1.0 + x);
+    match n {
+        1 => vec![(0.5, 1.0)],
+        2 => {
+            let a = 0.5 / 3f64.sqrt();
+            vec![(0.5 - a, 0.5), (0.5 + a, 0.5)]
+        }
+        _ => {
+            let a = (0.6f64).sqrt();
+            vec![(s(-a), 5.0 / 18.0), (0.5, 8.0 / 18.0), (s(a), 5.0 / 18.0)]
+        }
+    }
+}
+
+/// The surface, indenter and law of one interaction.
+pub struct Contact<'a> {
+    /// surface segments (node pairs, increasing r)
+    pub segments: Vec<[usize; 2]>,
+    /// the indenter
+    pub indenter: Indenter,
+    /// the law
+    pub law: &'a dyn SurfaceLaw,
+    /// quadrature on [0, 1]
+    pub quadrature: Vec<(f64, f64)>,
+}
+
+/// Energy, force, stiffness and indenter load of one segment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SegmentOutput {
+    /// Π_seg, aJ
+    pub energy: f64,
+    /// ∂Π/∂(x₁r, x₁z, x₂r, x₂z), nN
+    pub force: [f64; 4],
+    /// Hessian, nN/nm
+    pub stiffness: [[f64; 4]; 4],
+    /// ∂Π/∂δ: this segment's share of the load P, nN
+    pub load: f64,
+}
+
+/// A point of the contact profile.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProfilePoint {
+    /// current radius, nm
+    pub r: f64,
+    /// gap, nm
+    pub gap: f64,
+    /// pressure, GPa
+    pub pressure: f64,
+}
+
+impl Contact<'_> {
+    /// Segments along the surface of `mesh`.
+    pub fn segments_of(mesh: &Mesh) -> Vec<[usize; 2]> {
+        mesh.surface.windows(2).map(|w| [w[0], w[1]]).collect()
+    }
+
+    /// Evaluate segment `x` (current ends) with reference ends `x_ref`.
+    pub fn segment(
+        &self,
+        x: [[f64; 2]; 2],
+        x_ref: [[f64; 2]; 2],
+        depth: f64,
+        small: bool,
+    ) -> SegmentOutput {
+        let two_pi = 2.0 * std::f64::consts::PI;
+        let geo = if small { x_ref } else { x };
+        let d = [geo[1][0] - geo[0][0], geo[1][1] - geo[0][1]];
+        let len = d[0].hypot(d[1]);
+        let e = [d[0] / len, d[1] / len];
+        let mut dl = [0.0; 4];
+        let mut d2l = [[0.0; 4]; 4];
+        if !small {
+            dl = [-e[0], -e[1], e[0], e[1]];
+            for i in 0..2 {
+                for j in 0..2 {
+                    let a = ((i == j) as u8 as f64 - e[i] * e[j]) / len;
+                    d2l[i][j] = a;
+                    d2l[i + 2][j + 2] = a;
+                    d2l[i][j + 2] = -a;
+                    d2l[i + 2][j] = -a;
+                }
+            }
+        }
+        let mut out = SegmentOutput {
+            energy: 0.0,
+            force: [0.0; 4],
+            stiffness: [[0.0; 4]; 4],
+            load: 0.0,
+        };
+        for &(xi, w) in &self.quadrature {
+            let nsh = [1.0 - xi, xi];
+            let xq = [
+                nsh[0] * x[0][0] + nsh[1] * x[1][0],
+                nsh[0] * x[0][1] + nsh[1] * x[1][1],
+            ];
+            let r = nsh[0] * geo[0][0] + nsh[1] * geo[1][0];
+            let gp = self.indenter.gap(xq, depth);
+            let (phi, p, k) = self.law.eval(gp.gap);
+            if phi == 0.0 && p == 0.0 && k == 0.0 {
+                continue;
+            }
+            let c = two_pi * w;
+            let n = gp.normal;
+            let mut dphi = [0.0; 4];
+            let mut d2phi = [[0.0; 4]; 4];
+            let mut dr = [0.0; 4];
+            for a in 0..2 {
+                if !small {
+                    dr[2 * a] = nsh[a];
+                }
+                for i in 0..2 {
+                    dphi[2 * a + i] = -p * n[i] * nsh[a];
+                    for b in 0..2 {
+                        for j in 0..2 {
+                            d2phi[2 * a + i][2 * b + j] =
+                                (-k * n[i] * n[j] - p * gp.hessian[i][j]) * nsh[a] * nsh[b];
+                        }
+                    }
+                }
+            }
+            out.energy += c * len * r * phi;
+            out.load -= c * len * r * p * n[1];
+            for s in 0..4 {
+                out.force[s] += c * (r * phi * dl[s] + len * phi * dr[s] + len * r * dphi[s]);
+                for t in 0..4 {
+                    out.stiffness[s][t] += c
+                        * (r * phi * d2l[s][t]
+                            + phi * (dl[s] * dr[t] + dr[s] * dl[t])
+                            + r * (dl[s] * dphi[t] + dphi[s] * dl[t])
+                            + len * (dr[s] * dphi[t] + dphi[s] * dr[t])
+                            + len * r * d2phi[s][t]);
+                }
+            }
+        }
+        out
+    }
+
+    /// Gap and pressure at every quadrature point of the surface, by increasing r.
+    pub fn profile(&self, current: &[[f64; 2]], depth: f64) -> Vec<ProfilePoint> {
+        let mut pts = Vec::with_capacity(self.segments.len() * self.quadrature.len());
+        for s in &self.segments {
+            let (a, b) = (current[s[0]], current[s[1]]);
+            for &(xi, _) in &self.quadrature {
+                let x = [a[0] + xi * (b[0] - a[0]), a[1] + xi * (b[1] - a[1])];
+                let g = self.indenter.gap(x, depth).gap;
+                pts.push(ProfilePoint {
+                    r: x[0],
+                    gap: g,
+                    pressure: self.law.eval(g).1,
+                });
+            }
+        }
+        pts
+    }
+
+    /// Contact radius (nm): the outermost radius where the gap reaches the law's contact gap,
+    /// interpolated linearly between the last point inside and the first outside; 0 without
+    /// contact.
+    pub fn contact_radius(&self, profile: &[ProfilePoint]) -> f64 {
+        let edge = self.law.contact_gap();
+        let Some(last) = profile.iter().rposition(|p| p.gap < edge) else {
+            return 0.0;
+        };
+        match profile.get(last + 1) {
+            None => profile[last].r,
+            Some(next) => {
+                let a = &profile[last];
+                let t = (edge - a.gap) / (next.gap - a.gap);
+                a.r + t * (next.r - a.r)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::laws::LjKind;
+
+    const FD_TOL: f64 = 1e-6; // central differences with step 1e-6 nm
+
+    fn check(law: &dyn SurfaceLaw, ind: Indenter, x: [[f64; 2]; 2], depth: f64, small: bool) {
+        let c = Contact {
+            segments: vec![],
+            indenter: ind,
+            law,
+            quadrature: gauss_points(3),
+        };
+        let x_ref = [[x[0][0] - 0.1, 0.0], [x[1][0] + 0.2, 0.0]];
+        let o = c.segment(x, x_ref, depth, small);
+        assert!(o.energy != 0.0);
+        let fmax = o.force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let kmax = o
+            .stiffness
+            .iter()
+            .flatten()
+            .fold(0.0f64, |a, v| a.max(v.abs()));
+        let h = 1e-6;
+        for t in 0..4 {
+            let (mut xp, mut xm) = (x, x);
+            xp[t / 2][t % 2] += h;
+            xm[t / 2][t % 2] -= h;
+            let (op, om) = (
+                c.segment(xp, x_ref, depth, small),
+                c.segment(xm, x_ref, depth, small),
+            );
+            let f_fd = (op.energy - om.energy) / (2.0 * h);
+            assert!((f_fd - o.force[t]).abs() < FD_TOL * fmax, "force {t}");
+            for s in 0..4 {
+                let k_fd = (op.force[s] - om.force[s]) / (2.0 * h);
+                assert!(
+                    (k_fd - o.stiffness[s][t]).abs() < FD_TOL * kmax,
+                    "K[{s}][{t}]"
+                );
+            }
+        }
+        let l_fd = (c.segment(x, x_ref, depth + h, small).energy
+            - c.segment(x, x_ref, depth - h, small).energy)
+            / (2.0 * h);
+        assert!((l_fd - o.load).abs() < FD_TOL * o.load.abs().max(fmax));
+    }
+
+    #[test]
+    fn penalty_law_is_a_c2_repulsion() {
+        let law = SmoothPenalty {
+            stiffness: 3.0,
+            range: 0.2,
+        };
+        for g in [-0.3, -0.01, 0.01, 0.05, 0.199, 0.3] {
+            let h = 1e-6;
+            let (phi, p, k) = law.eval(g);
+            assert!(p >= 0.0 && phi >= 0.0);
+            assert!(((law.eval(g - h).0 - law.eval(g + h).0) / (2.0 * h) - p).abs() < 1e-8);
+            let k_fd = (law.eval(g + h).1 - law.eval(g - h).1) / (2.0 * h);
+            assert!((k_fd - k).abs() < 1e-6, "{g}: {k_fd} vs {k}");
+        }
+        // φ, p and k are continuous where the branches meet (g = 0 and g = h_r)
+        for g in [0.0, 0.2] {
+            let (a, b) = (law.eval(g - 1e-12), law.eval(g + 1e-12));
+            assert!(
+                (a.0 - b.0).abs() < 1e-10 && (a.1 - b.1).abs() < 1e-10 && (a.2 - b.2).abs() < 1e-10
+            );
+        }
+    }
+
+    #[test]
+    fn segment_force_stiffness_and_load_match_finite_differences() {
+        let pen = SmoothPenalty {
+            stiffness: 3.0,
+            range: 0.5,
+        };
+        let lj = LennardJones::new(LjKind::Lj93, 0.2, 0.5);
+        let sphere = Indenter::Sphere { radius: 50.0 };
+        let x = [[3.0, -0.9], [4.5, -1.1]];
+        for small in [false, true] {
+            check(&pen, sphere, x, 1.0, small);
+            check(&lj, sphere, x, 0.5, small);
+            check(
+                &lj,
+                Indenter::berkovich_tangent(50.0),
+                [[20.0, -4.0], [22.0, -4.2]],
+                6.0,
+                small,
+            );
+        }
+    }
+
+    #[test]
+    fn contact_radius_interpolates_the_gap_at_the_edge() {
+        let law = SmoothPenalty {
+            stiffness: 1.0,
+            range: 0.1,
+        };
+        let c = Contact {
+            segments: vec![],
+            indenter: Indenter::Sphere { radius: 10.0 },
+            law: &law,
+            quadrature: gauss_points(2),
+        };
+        let pts = |g: [f64; 3]| -> Vec<ProfilePoint> {
+            (0..3)
+                .map(|i| ProfilePoint {
+                    r: i as f64,
+                    gap: g[i],
+                    pressure: 0.0,
+                })
+                .collect()
+        };
+        assert_eq!(c.contact_radius(&pts([1.0, 2.0, 3.0])), 0.0);
+        assert!((c.contact_radius(&pts([0.0, 0.0, 0.2])) - 1.5).abs() < 1e-12);
+    }
+}

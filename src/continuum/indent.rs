@@ -1,0 +1,580 @@
+//! The indentation driver: schedule → increments → results. It reads as the algorithm:
+//! resolve the sizes from the scene ([`resolve`]), build the mesh and the solid
+//! (axis u_r = 0, base bonded u = 0), then for each schedule segment march the indenter depth
+//! (and time) in increments, solving each by Newton ([`super::newton`]); a failed increment
+//! is halved and retried, a quick one lets the increment grow back. Displacement control:
+//! the depth δ(t) follows the segments (load/unload at a rate, hold for a time); the load is
+//! P = ∂Π/∂δ.
+
+use super::assembly::{Assembler, AssemblyStats, Equilibrium, Solid};
+use super::contact::{gauss_points, Contact, SmoothPenalty};
+use super::element::Kinematics;
+use super::indenter::Indenter;
+use super::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
+use super::material::linear::LinearElastic;
+use super::material::viscoelastic::{validate_prony, PronyTerm, Viscoelastic};
+use super::material::{Elastic, Voigt};
+use super::mesh::{self, BlockSpec, Mesh, MeshReport};
+use super::newton::{self, NewtonParams};
+use super::FeError;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// One segment of the displacement schedule.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Segment {
+    /// move the indenter to depth `to` (nm) at `rate` (nm/s), deeper or shallower
+    Load {
+        /// target depth δ, nm
+        to: f64,
+        /// speed, nm/s (> 0)
+        rate: f64,
+    },
+    /// keep the depth for `time` (s)
+    Hold {
+        /// duration, s
+        time: f64,
+    },
+    /// as `Load`, named for the way back
+    Unload {
+        /// target depth δ, nm
+        to: f64,
+        /// speed, nm/s (> 0)
+        rate: f64,
+    },
+}
+
+/// The material: an elastic model and optional Prony terms.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MaterialParams {
+    /// the elastic model
+    pub elastic: Elastic,
+    /// Prony terms (empty: elastic, no history)
+    #[serde(default)]
+    pub prony: Vec<PronyTerm>,
+}
+
+/// Mesh sizes; unset ones are derived from the expected contact radius a (from the indenter
+/// at the deepest point of the schedule).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct MeshParams {
+    /// block width, nm (default `size_factor`·a)
+    pub width: Option<f64>,
+    /// block depth, nm (default `size_factor`·a)
+    pub depth: Option<f64>,
+    /// smallest element, nm (default a/`elements_per_radius`; of the order of z₀ with adhesion)
+    pub smallest: Option<f64>,
+    /// block size in contact radii (≥ 10; 50 keeps the rigid-base error ≈ 0.42a/L below 1 %)
+    pub size_factor: f64,
+    /// elements across the contact radius in the fine zone
+    pub elements_per_radius: f64,
+    /// fine zone radius in contact radii
+    pub fine_radius: f64,
+    /// fine zone depth in contact radii
+    pub fine_depth: f64,
+    /// size growth per unit distance from the fine zone
+    pub grading: f64,
+    /// a Gmsh 2.2 mesh to use instead (surface at its top, axis at r = 0)
+    pub gmsh_file: Option<std::path::PathBuf>,
+}
+
+impl Default for MeshParams {
+    fn default() -> Self {
+        MeshParams {
+            width: None,
+            depth: None,
+            smallest: None,
+            size_factor: 50.0,
+            elements_per_radius: 20.0,
+            fine_radius: 1.5,
+            fine_depth: 0.5,
+            grading: 0.3,
+            gmsh_file: None,
+        }
+    }
+}
+
+/// The repulsive contact law and its quadrature.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ContactParams {
+    /// penalty stiffness k_n in units of E*/h₀ (E* reduced modulus, h₀ smallest element)
+    pub penalty_factor: f64,
+    /// penalty range h_r in units of h₀
+    pub range_fraction: f64,
+    /// Gauss points per surface segment (1–3)
+    pub quadrature_points: usize,
+}
+
+impl Default for ContactParams {
+    fn default() -> Self {
+        ContactParams {
+            penalty_factor: 100.0,
+            range_fraction: 0.01,
+            quadrature_points: 2,
+        }
+    }
+}
+
+/// Increments and Newton.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SolverParams {
+    /// Newton's parameters
+    pub newton: NewtonParams,
+    /// increments per schedule segment (also the largest increment)
+    pub increments: usize,
+    /// halvings of an increment before giving up
+    pub max_cutbacks: usize,
+    /// growth factor of the increment after a quick convergence
+    pub growth: f64,
+    /// Newton iterations counted as quick
+    pub quick_iterations: usize,
+}
+
+impl Default for SolverParams {
+    fn default() -> Self {
+        SolverParams {
+            newton: NewtonParams::default(),
+            increments: 20,
+            max_cutbacks: 12,
+            growth: 1.5,
+            quick_iterations: 5,
+        }
+    }
+}
+
+/// Everything a continuum indentation needs (plain data).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct IndentParams {
+    /// the rigid indenter
+    pub indenter: Indenter,
+    /// the specimen's material
+    pub material: MaterialParams,
+    /// finite or small kinematics
+    #[serde(default)]
+    pub kinematics: Kinematics,
+    /// mesh sizes
+    #[serde(default)]
+    pub mesh: MeshParams,
+    /// the displacement schedule, starting from δ = 0 at t = 0
+    pub schedule: Vec<Segment>,
+    /// the contact law
+    #[serde(default)]
+    pub contact: ContactParams,
+    /// increments and Newton
+    #[serde(default)]
+    pub solver: SolverParams,
+}
+
+impl IndentParams {
+    /// The Hertz check (`scenes/hertz.toml`): a rigid 1 µm sphere into a linear block
+    /// (E = 0.7 GPa, ν = 0.3) to δ/R = 0.01 at 10 nm/s and back.
+    pub fn hertz_example() -> Self {
+        IndentParams {
+            indenter: Indenter::Sphere { radius: 1000.0 },
+            material: MaterialParams {
+                elastic: Elastic::Linear(LinearElastic {
+                    youngs: 0.7,
+                    poisson: 0.3,
+                }),
+                prony: vec![],
+            },
+            kinematics: Kinematics::Finite,
+            mesh: MeshParams::default(),
+            schedule: vec![
+                Segment::Load {
+                    to: 10.0,
+                    rate: 10.0,
+                },
+                Segment::Unload {
+                    to: 0.0,
+                    rate: 10.0,
+                },
+            ],
+            contact: ContactParams::default(),
+            solver: SolverParams::default(),
+        }
+    }
+
+    /// The seed's turf indentation (`scenes/hyperfoam_indent.toml`, seed §6.2): the blunt
+    /// Berkovich (1.8 µm tip) into the hyperfoam of Table 5.1 (μ = 350 MPa, α = 18.8 for
+    /// ε₀ = 0.05, β = 0) relaxing with μ̄ = 0.4, τ = 3 s: load to 200 nm at 10 nm/s, hold 10 s,
+    /// unload.
+    pub fn hyperfoam_example() -> Self {
+        IndentParams {
+            indenter: Indenter::berkovich_tangent(1800.0),
+            material: MaterialParams {
+                elastic: Elastic::Hyperfoam(Hyperfoam {
+                    terms: vec![HyperfoamTerm {
+                        mu: 0.35,
+                        alpha: 18.8,
+                        beta: 0.0,
+                    }],
+                }),
+                prony: vec![PronyTerm { g: 0.4, tau: 3.0 }],
+            },
+            kinematics: Kinematics::Finite,
+            mesh: MeshParams {
+                size_factor: 20.0,
+                ..MeshParams::default()
+            },
+            schedule: vec![
+                Segment::Load {
+                    to: 200.0,
+                    rate: 10.0,
+                },
+                Segment::Hold { time: 10.0 },
+                Segment::Unload {
+                    to: 0.0,
+                    rate: 10.0,
+                },
+            ],
+            contact: ContactParams::default(),
+            solver: SolverParams::default(),
+        }
+    }
+}
+
+/// The sizes derived from the parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[allow(non_snake_case)] // field names carry their units, as the output columns do
+pub struct Resolved {
+    /// deepest point of the schedule, nm
+    pub max_depth_nm: f64,
+    /// expected contact radius there, nm
+    pub expected_contact_radius_nm: f64,
+    /// the block that was meshed
+    pub block: BlockSpec,
+    /// initial Young's modulus of the material, GPa
+    pub youngs_GPa: f64,
+    /// initial Poisson ratio
+    pub poisson: f64,
+    /// reduced modulus E* = E/(1 − ν²) against a rigid indenter, GPa
+    pub reduced_modulus_GPa: f64,
+    /// the repulsive law
+    pub penalty: SmoothPenalty,
+}
+
+/// Resolve the derived sizes (and validate the parameters).
+pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
+    p.indenter.validate().map_err(FeError::Params)?;
+    p.material.elastic.validate()?;
+    validate_prony(&p.material.prony)?;
+    let mut depth: f64 = 0.0;
+    let mut max_depth: f64 = 0.0;
+    for s in &p.schedule {
+        match *s {
+            Segment::Load { to, rate } | Segment::Unload { to, rate } => {
+                if !(rate > 0.0 && to.is_finite()) {
+                    return Err(FeError::Params(format!(
+                        "schedule segment {s:?}: rate must be positive and the target finite"
+                    )));
+                }
+                depth = to;
+            }
+            Segment::Hold { time } => {
+                if !(time > 0.0 && time.is_finite()) {
+                    return Err(FeError::Params(format!(
+                        "hold time must be positive, got {time} s"
+                    )));
+                }
+            }
+        }
+        max_depth = max_depth.max(depth);
+    }
+    if !(max_depth > 0.0) {
+        return Err(FeError::Params(
+            "the schedule never indents (no depth > 0)".into(),
+        ));
+    }
+    let a = p.indenter.contact_radius_estimate(max_depth);
+    let m = &p.mesh;
+    if !(m.size_factor >= 10.0) {
+        return Err(FeError::Params(format!(
+            "mesh.size_factor must be at least 10 (the block ≥ 10 contact radii), got {}",
+            m.size_factor
+        )));
+    }
+    let smallest = m.smallest.unwrap_or(a / m.elements_per_radius);
+    let block = BlockSpec {
+        width: m.width.unwrap_or(m.size_factor * a),
+        depth: m.depth.unwrap_or(m.size_factor * a),
+        smallest,
+        fine_radius: m.fine_radius * a,
+        fine_depth: m.fine_depth * a,
+        grading: m.grading,
+    };
+    let (e, nu) = p.material.elastic.initial_moduli();
+    let e_star = e / (1.0 - nu * nu);
+    let c = &p.contact;
+    if !(c.penalty_factor > 0.0 && c.range_fraction > 0.0 && (1..=3).contains(&c.quadrature_points))
+    {
+        return Err(FeError::Params(format!(
+            "unusable contact parameters {c:?}"
+        )));
+    }
+    Ok(Resolved {
+        max_depth_nm: max_depth,
+        expected_contact_radius_nm: a,
+        block,
+        youngs_GPa: e,
+        poisson: nu,
+        reduced_modulus_GPa: e_star,
+        penalty: SmoothPenalty {
+            stiffness: c.penalty_factor * e_star / smallest,
+            range: c.range_fraction * smallest,
+        },
+    })
+}
+
+/// One converged increment.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[allow(non_snake_case)] // field names carry their units, as the output columns do
+pub struct Row {
+    /// time, s
+    pub time_s: f64,
+    /// indenter depth δ, nm
+    pub depth_nm: f64,
+    /// load P, nN (compressive positive)
+    pub load_nN: f64,
+    /// contact radius, nm
+    pub contact_radius_nm: f64,
+    /// Newton iterations of the increment
+    pub iterations: usize,
+}
+
+/// The deformed state at the end of a segment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// which segment ended
+    pub label: String,
+    /// time, s
+    pub time_s: f64,
+    /// depth, nm
+    pub depth_nm: f64,
+    /// nodal displacements (u_r, u_z), nm
+    pub displacement: Vec<f64>,
+    /// element Cauchy stresses [rr, zz, θθ, rz], GPa
+    pub stress: Vec<Voigt>,
+}
+
+/// Work and time spent.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct RunStats {
+    /// converged increments
+    pub increments: usize,
+    /// halved increments
+    pub cutbacks: usize,
+    /// Newton iterations in converged increments
+    pub newton_iterations: usize,
+    /// assembly and linear-solve totals (failed attempts included)
+    pub assembly: AssemblyStats,
+    /// mesh generation, s
+    pub mesh_s: f64,
+    /// the whole run, s
+    pub wall_s: f64,
+}
+
+/// What a run produced.
+#[derive(Debug, Clone)]
+pub struct IndentResult {
+    /// the parameters
+    pub params: IndentParams,
+    /// the derived sizes
+    pub resolved: Resolved,
+    /// the mesh
+    pub mesh: Mesh,
+    /// its figures
+    pub mesh_report: MeshReport,
+    /// one row per converged increment (and the initial state)
+    pub rows: Vec<Row>,
+    /// deformed states at the end of each segment
+    pub snapshots: Vec<Snapshot>,
+    /// work and time
+    pub stats: RunStats,
+    /// why the run stopped early, if it did
+    pub failure: Option<String>,
+}
+
+/// Progress of a run, for the caller's display.
+#[derive(Debug, Clone, Copy)]
+pub struct Progress {
+    /// schedule segment (0-based)
+    pub segment: usize,
+    /// number of segments
+    pub segments: usize,
+    /// the increment just converged
+    pub row: Row,
+}
+
+/// Build the mesh of a run.
+fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
+    match &p.mesh.gmsh_file {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| FeError::Params(format!("cannot read {}: {e}", path.display())))?;
+            Ok(mesh::read_msh(&text)?)
+        }
+        None => Ok(mesh::graded_block(&r.block)?),
+    }
+}
+
+/// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished.
+pub fn run_indent(
+    p: &IndentParams,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<IndentResult, FeError> {
+    let t_start = Instant::now();
+    let resolved = resolve(p)?;
+    let mesh = build_mesh(p, &resolved)?;
+    let mesh_s = t_start.elapsed().as_secs_f64();
+    let material = Viscoelastic {
+        elastic: p.material.elastic.clone(),
+        prony: p.material.prony.clone(),
+    };
+    let mut solid = Solid::new(&mesh, p.kinematics, Box::new(material))?;
+    for &n in &mesh.axis {
+        solid.fixed[2 * n] = true;
+    }
+    for &n in &mesh.bottom {
+        solid.fixed[2 * n] = true;
+        solid.fixed[2 * n + 1] = true;
+    }
+    let law = resolved.penalty;
+    let contact = Contact {
+        segments: Contact::segments_of(&mesh),
+        indenter: p.indenter,
+        law: &law,
+        quadrature: gauss_points(p.contact.quadrature_points),
+    };
+    let mut asm = Assembler::new(&solid, Some(&contact))?;
+    let a = resolved.expected_contact_radius_nm;
+    let force_floor = 1e-6 * resolved.reduced_modulus_GPa * a * a;
+
+    let mut result = IndentResult {
+        params: p.clone(),
+        resolved,
+        mesh_report: mesh.report(),
+        mesh,
+        rows: vec![Row {
+            time_s: 0.0,
+            depth_nm: 0.0,
+            load_nN: 0.0,
+            contact_radius_nm: 0.0,
+            iterations: 0,
+        }],
+        snapshots: Vec::new(),
+        stats: RunStats {
+            mesh_s,
+            ..RunStats::default()
+        },
+        failure: None,
+    };
+    let ndof = solid.dofs();
+    let mut u = vec![0.0; ndof];
+    let mut u_prev = vec![0.0; ndof];
+    let mut last_ddepth = 0.0;
+    let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
+    let (mut time, mut depth) = (0.0, 0.0);
+    let base = 1.0 / p.solver.increments.max(1) as f64;
+
+    for (si, seg) in p.schedule.iter().enumerate() {
+        let (target, duration) = match *seg {
+            Segment::Load { to, rate } | Segment::Unload { to, rate } => {
+                (to, (to - depth).abs() / rate)
+            }
+            Segment::Hold { time } => (depth, time),
+        };
+        let (d0, t0) = (depth, time);
+        let (mut done, mut step, mut cutbacks) = (0.0f64, base, 0usize);
+        while done < 1.0 - 1e-12 {
+            let s = step.min(1.0 - done);
+            let new_depth = d0 + (target - d0) * (done + s);
+            let dt = duration * s;
+            let ddepth = new_depth - depth;
+            // predictor: extrapolate the last increment's displacement change
+            let mut x = u.clone();
+            if last_ddepth != 0.0 && ddepth * last_ddepth > 0.0 {
+                let ratio = ddepth / last_ddepth;
+                for ((xi, ui), pi) in x.iter_mut().zip(&u).zip(&u_prev) {
+                    *xi += ratio * (ui - pi);
+                }
+            }
+            let mut sys = Equilibrium {
+                asm: &mut asm,
+                solid: &solid,
+                contact: Some(&contact),
+                history: &history,
+                dt,
+                depth: new_depth,
+                force_floor,
+            };
+            match newton::solve(&mut sys, &mut x, &p.solver.newton) {
+                Ok(info) => {
+                    let ev =
+                        asm.evaluate(&solid, Some(&contact), (&x, &history), dt, new_depth, false)?;
+                    solid.commit(&x, &mut history, dt)?;
+                    u_prev = std::mem::replace(&mut u, x);
+                    last_ddepth = ddepth;
+                    depth = new_depth;
+                    done += s;
+                    time = t0 + duration * done;
+                    let current: Vec<[f64; 2]> = solid
+                        .nodes
+                        .iter()
+                        .enumerate()
+                        .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
+                        .collect();
+                    let row = Row {
+                        time_s: time,
+                        depth_nm: depth,
+                        load_nN: ev.load,
+                        contact_radius_nm: contact
+                            .contact_radius(&contact.profile(&current, depth)),
+                        iterations: info.iterations,
+                    };
+                    result.rows.push(row);
+                    result.stats.increments += 1;
+                    result.stats.newton_iterations += info.iterations;
+                    progress(&Progress {
+                        segment: si,
+                        segments: p.schedule.len(),
+                        row,
+                    });
+                    if info.iterations <= p.solver.quick_iterations {
+                        step = (step * p.solver.growth).min(base);
+                    }
+                }
+                Err(e) => {
+                    cutbacks += 1;
+                    result.stats.cutbacks += 1;
+                    step *= 0.5;
+                    last_ddepth = 0.0;
+                    if cutbacks > p.solver.max_cutbacks {
+                        result.failure = Some(format!(
+                            "segment {si} ({seg:?}): increment to depth {new_depth:.6} nm at t = {:.6} s failed after {cutbacks} halvings: {e}",
+                            t0 + duration * (done + s)
+                        ));
+                        result.stats.assembly = asm.stats;
+                        result.stats.wall_s = t_start.elapsed().as_secs_f64();
+                        return Err(FeError::Stopped(Box::new(result)));
+                    }
+                }
+            }
+        }
+        let dt_last = 0.0;
+        result.snapshots.push(Snapshot {
+            label: format!("segment{si}"),
+            time_s: time,
+            depth_nm: depth,
+            displacement: u.clone(),
+            stress: solid.stresses(&u, &history, dt_last)?,
+        });
+    }
+    result.stats.assembly = asm.stats;
+    result.stats.wall_s = t_start.elapsed().as_secs_f64();
+    Ok(result)
+}

@@ -1,0 +1,247 @@
+//! N-term hyperfoam (Hill 1978; Storåkers 1986; the Abaqus `*HYPERFOAM` form; seed eq. 5.3 with
+//! the OCR error corrected in PHYSICS.md):
+//!
+//! U = Σᵢ 2μᵢ/αᵢ² [λ₁^αᵢ + λ₂^αᵢ + λ₃^αᵢ − 3 + (1/βᵢ)(J^(−αᵢβᵢ) − 1)],
+//!
+//! with the limit β → 0 of the last term, −αᵢ ln J, taken smoothly through
+//! (J^(−αβ) − 1)/β = (−α ln J)·expm1(x)/x, x = −αβ ln J. Initial moduli μ₀ = Σμᵢ,
+//! K₀ = Σ 2μᵢ(1/3 + βᵢ), E₀ = 9K₀μ₀/(3K₀ + μ₀); with β = 0 a uniaxial test has no lateral
+//! strain and nominal stress T = (2μ/α)(λ^(α−1) − λ^(−1)).
+//!
+//! **Principal form without eigenvector trouble.** With cₐ = λₐ² the eigenvalues of C,
+//! Σλₐ^α = tr C^p (p = α/2) splits into the in-plane 2×2 block M and the hoop entry C_θθ
+//! (C is block-diagonal in axisymmetry). Then S = 2kp (M^(p−1) ⊕ C_θθ^(p−1)) (k = 2μ/α²) and
+//! 𝔺 = 4kp d(M^(p−1))/dM ⊕ 4kp(p−1)C_θθ^(p−2). In the eigenbasis n₁, n₂ of M,
+//! d(M^q) = Σₐ q cₐ^(q−1) Pₐ (Pₐ:dM) + 2Γ₁₂ N₁₂ (N₁₂:dM), Pₐ = nₐ⊗nₐ, N₁₂ = sym(n₁⊗n₂), with the
+//! divided difference Γ₁₂ = (c₁^q − c₂^q)/(c₁ − c₂) evaluated as c₂^(q−1)·expm1(q ln r)/expm1(ln r),
+//! r = c₁/c₂ — accurate through the repeated-eigenvalue limit Γ → q c^(q−1), where the
+//! (arbitrary) eigenbasis no longer matters. The volumetric term is a function of J:
+//! S = Jψ′C⁻¹, 𝔺 = (Jψ′ + J²ψ″) C⁻¹⊗C⁻¹ − 2Jψ′ 𝕀_{C⁻¹}.
+
+use super::{
+    add_scaled, finite, inverse, jacobian, outer, sym_product, Material, MaterialError, Response,
+    Voigt,
+};
+use serde::{Deserialize, Serialize};
+
+/// One term of the hyperfoam series.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HyperfoamTerm {
+    /// μᵢ, GPa
+    pub mu: f64,
+    /// αᵢ, dimensionless (non-zero)
+    pub alpha: f64,
+    /// βᵢ = νᵢ/(1 − 2νᵢ), dimensionless (> −1/3)
+    pub beta: f64,
+}
+
+/// The N-term hyperfoam.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Hyperfoam {
+    /// the terms
+    pub terms: Vec<HyperfoamTerm>,
+}
+
+impl Hyperfoam {
+    /// Initial Young's modulus and Poisson ratio from μ₀ = Σμᵢ and K₀ = Σ2μᵢ(1/3 + βᵢ).
+    pub fn initial_moduli(&self) -> (f64, f64) {
+        let mu0: f64 = self.terms.iter().map(|t| t.mu).sum();
+        let k0: f64 = self
+            .terms
+            .iter()
+            .map(|t| 2.0 * t.mu * (1.0 / 3.0 + t.beta))
+            .sum();
+        let e = 9.0 * k0 * mu0 / (3.0 * k0 + mu0);
+        let nu = (3.0 * k0 - 2.0 * mu0) / (2.0 * (3.0 * k0 + mu0));
+        (e, nu)
+    }
+
+    /// Check there is a term, every α ≠ 0, β > −1/3, and the initial moduli are positive.
+    pub fn validate(&self) -> Result<(), MaterialError> {
+        if self.terms.is_empty() {
+            return Err(MaterialError::Invalid(
+                "hyperfoam needs at least one term".into(),
+            ));
+        }
+        for t in &self.terms {
+            if !(t.alpha.abs() > 0.0 && t.alpha.is_finite() && t.mu.is_finite()) {
+                return Err(MaterialError::Invalid(format!(
+                    "hyperfoam term needs finite μ and α ≠ 0, got μ = {}, α = {}",
+                    t.mu, t.alpha
+                )));
+            }
+            if !(t.beta > -1.0 / 3.0) {
+                return Err(MaterialError::Invalid(format!(
+                    "hyperfoam β must exceed −1/3, got {}",
+                    t.beta
+                )));
+            }
+        }
+        let (e, _) = self.initial_moduli();
+        if !(e > 0.0) {
+            return Err(MaterialError::Invalid(format!(
+                "hyperfoam initial Young's modulus must be positive, got {e} GPa"
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Eigen-decomposition of the symmetric 2×2 block [[a, b], [b, d]]: (c₁ ≥ c₂, n₁, n₂).
+fn eigen_2x2(a: f64, b: f64, d: f64) -> (f64, f64, [f64; 2], [f64; 2]) {
+    let m = 0.5 * (a + d);
+    let r = (0.5 * (a - d)).hypot(b);
+    let c1 = m + r;
+    let c2 = (a * d - b * b) / c1;
+    let th = if r == 0.0 {
+        0.0
+    } else {
+        0.5 * (2.0 * b).atan2(a - d)
+    };
+    let (s, c) = th.sin_cos();
+    (c1, c2, [c, s], [-s, c])
+}
+
+/// (c₁^q − c₂^q)/(c₁ − c₂), exact in the limit c₁ → c₂.
+fn divided_power(c1: f64, c2: f64, q: f64) -> f64 {
+    let x = (c1 / c2).ln();
+    if x == 0.0 {
+        q * c2.powf(q - 1.0)
+    } else {
+        c2.powf(q - 1.0) * (q * x).exp_m1() / x.exp_m1()
+    }
+}
+
+impl Material for Hyperfoam {
+    fn response(&self, c: &Voigt, _history: &[f64], _dt: f64) -> Result<Response, MaterialError> {
+        let jac = jacobian(c)?;
+        let ln_j = jac.ln();
+        let cinv = inverse(c);
+        let (c1, c2, n1, n2) = eigen_2x2(c[0], c[3], c[1]);
+        let c3 = c[2];
+        let p1: Voigt = [n1[0] * n1[0], n1[1] * n1[1], 0.0, n1[0] * n1[1]];
+        let p2: Voigt = [n2[0] * n2[0], n2[1] * n2[1], 0.0, n2[0] * n2[1]];
+        let n12: Voigt = [
+            n1[0] * n2[0],
+            n1[1] * n2[1],
+            0.0,
+            0.5 * (n1[0] * n2[1] + n1[1] * n2[0]),
+        ];
+        let hoop: Voigt = [0.0, 0.0, 1.0, 0.0];
+        let cinv_cinv = outer(&cinv, &cinv);
+        let i_cinv = sym_product(&cinv, &cinv);
+
+        let mut energy = 0.0;
+        let mut stress = [0.0; 4];
+        let mut tangent = [[0.0; 4]; 4];
+        for t in &self.terms {
+            let k = 2.0 * t.mu / (t.alpha * t.alpha);
+            let p = 0.5 * t.alpha;
+            let q = p - 1.0;
+            // isotropic part: k (Σ cₐ^p − 3)
+            energy += k * (c1.powf(p) + c2.powf(p) + c3.powf(p) - 3.0);
+            let (s1, s2, s3) = (c1.powf(q), c2.powf(q), c3.powf(q));
+            for i in 0..4 {
+                stress[i] += 2.0 * k * p * (s1 * p1[i] + s2 * p2[i] + s3 * hoop[i]);
+            }
+            let g = 4.0 * k * p;
+            add_scaled(&mut tangent, g * q * c1.powf(q - 1.0), &outer(&p1, &p1));
+            add_scaled(&mut tangent, g * q * c2.powf(q - 1.0), &outer(&p2, &p2));
+            add_scaled(&mut tangent, g * q * c3.powf(q - 1.0), &outer(&hoop, &hoop));
+            add_scaled(
+                &mut tangent,
+                g * 2.0 * divided_power(c1, c2, q),
+                &outer(&n12, &n12),
+            );
+            // volumetric part: ψ_v(J) = (k/β)(J^(−αβ) − 1) → −kα ln J as β → 0
+            let x = -t.alpha * t.beta * ln_j;
+            let expm1_over_x = if x == 0.0 { 1.0 } else { x.exp_m1() / x };
+            energy += k * (-t.alpha * ln_j) * expm1_over_x;
+            let jd1 = -k * t.alpha * (-t.alpha * t.beta * ln_j).exp(); // J ψ′
+            let jjd2 = k * t.alpha * (t.alpha * t.beta + 1.0) * (-t.alpha * t.beta * ln_j).exp(); // J² ψ″
+            for i in 0..4 {
+                stress[i] += jd1 * cinv[i];
+            }
+            add_scaled(&mut tangent, jd1 + jjd2, &cinv_cinv);
+            add_scaled(&mut tangent, -2.0 * jd1, &i_cinv);
+        }
+        finite(
+            Response {
+                energy,
+                stress,
+                tangent,
+            },
+            c,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::fd;
+    use super::*;
+
+    const FD_TOL: f64 = 1e-6; // central differences, step 1e-6 in E: truncation ~1e-12·ψ''', round-off ~1e-10/1e-6
+
+    fn foam() -> Hyperfoam {
+        Hyperfoam {
+            terms: vec![
+                HyperfoamTerm {
+                    mu: 0.35,
+                    alpha: 9.1,
+                    beta: 0.0,
+                },
+                HyperfoamTerm {
+                    mu: 0.05,
+                    alpha: -2.0,
+                    beta: 0.2,
+                },
+            ],
+        }
+    }
+
+    #[test]
+    fn stress_and_tangent_match_finite_differences_including_repeated_stretches() {
+        let m = foam();
+        for c in [
+            [0.8, 1.1, 0.95, 0.05],
+            [0.7, 0.7, 1.05, 0.0],         // repeated in-plane eigenvalues
+            [1.0, 1.0, 1.0, 0.0],          // reference state
+            [0.9, 0.9 + 1e-9, 0.9, 1e-10], // nearly repeated
+        ] {
+            let (es, ed) = fd::mismatch(&m, &c, &[], 0.0);
+            assert!(es < FD_TOL && ed < FD_TOL, "{c:?}: {es} {ed}");
+        }
+    }
+
+    #[test]
+    fn reference_state_is_stress_free_with_the_initial_moduli() {
+        let m = foam();
+        let r = m.response(&[1.0, 1.0, 1.0, 0.0], &[], 0.0).unwrap();
+        assert!(r.energy.abs() < 1e-14 && r.stress.iter().all(|s| s.abs() < 1e-14));
+        // small-strain tangent: λ = K₀ − 2μ₀/3 off-diagonal, 2μ₀ + λ on the diagonal
+        let mu0 = 0.4;
+        let k0 = 2.0 * 0.35 / 3.0 + 2.0 * 0.05 * (1.0 / 3.0 + 0.2);
+        let lam = k0 - 2.0 * mu0 / 3.0;
+        assert!((r.tangent[0][1] - lam).abs() < 1e-12);
+        assert!((r.tangent[2][2] - (lam + 2.0 * mu0)).abs() < 1e-12);
+        assert!((r.tangent[3][3] - mu0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn uniaxial_nominal_stress_with_beta_zero_has_no_lateral_stress() {
+        let m = Hyperfoam {
+            terms: vec![HyperfoamTerm {
+                mu: 0.35,
+                alpha: 18.8,
+                beta: 0.0,
+            }],
+        };
+        for lam in [0.5, 0.8, 1.0, 1.2] {
+            let r = m.response(&[1.0, lam * lam, 1.0, 0.0], &[], 0.0).unwrap();
+            let t = 2.0 * 0.35 / 18.8 * (lam.powf(17.8) - 1.0 / lam);
+            assert!((r.stress[1] * lam - t).abs() < 1e-12 * t.abs().max(1.0));
+            assert!(r.stress[0].abs() < 1e-13 && r.stress[2].abs() < 1e-13);
+        }
+    }
+}

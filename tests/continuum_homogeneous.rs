@@ -1,0 +1,142 @@
+//! Homogeneous tests of the continuum solver on a small block (r ∈ [0, 10], z ∈ [−10, 0] nm):
+//! uniaxial compression of a hyperfoam with β = 0 against the closed form
+//! T = (2μ/α)(λ^(α−1) − λ^(−1)) with no lateral strain, and stress relaxation under a step
+//! strain against g(t) = 1 − μ̄(1 − e^(−t/τ)) (seed eq. 5.8).
+
+use turf::continuum::assembly::{Assembler, Equilibrium, Solid};
+use turf::continuum::element::Kinematics;
+use turf::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
+use turf::continuum::material::viscoelastic::{relaxation, PronyTerm, Viscoelastic};
+use turf::continuum::material::Elastic;
+use turf::continuum::mesh::{graded_block, BlockSpec, Mesh};
+use turf::continuum::newton::{solve, NewtonParams};
+
+/// Closed-form agreement of the issue; a homogeneous field is exact for the CST, so only the
+/// Newton tolerance (1e-9 relative) remains.
+const CLOSED_FORM_TOL: f64 = 1e-6;
+/// Relaxation agreement of the issue; the recurrence is exact for a step and a hold.
+const RELAX_TOL: f64 = 1e-3;
+
+const SIDE: f64 = 10.0;
+
+fn block() -> Mesh {
+    graded_block(&BlockSpec {
+        width: SIDE,
+        depth: SIDE,
+        smallest: 2.5,
+        fine_radius: SIDE,
+        fine_depth: SIDE,
+        grading: 0.0,
+    })
+    .unwrap()
+}
+
+fn foam(prony: Vec<PronyTerm>) -> Box<Viscoelastic<Elastic>> {
+    Box::new(Viscoelastic {
+        elastic: Elastic::Hyperfoam(Hyperfoam {
+            terms: vec![HyperfoamTerm {
+                mu: 0.35,
+                alpha: 18.8,
+                beta: 0.0,
+            }],
+        }),
+        prony,
+    })
+}
+
+/// Axis u_r = 0, base u_z = 0 (roller), top u_z prescribed.
+fn constrain(solid: &mut Solid, mesh: &Mesh) {
+    for &n in &mesh.axis {
+        solid.fixed[2 * n] = true;
+    }
+    for &n in mesh.bottom.iter().chain(&mesh.surface) {
+        solid.fixed[2 * n + 1] = true;
+    }
+}
+
+/// Solve with the top at stretch λ (lateral dofs start where they are); returns the total axial force on the top, nN.
+fn compress(
+    solid: &Solid,
+    mesh: &Mesh,
+    asm: &mut Assembler,
+    u: &mut [f64],
+    history: &[f64],
+    lambda: f64,
+    dt: f64,
+) -> f64 {
+    // prescribed top, and the homogeneous field as the start for the free axial dofs
+    for (n, x) in mesh.nodes.iter().enumerate() {
+        u[2 * n + 1] = (lambda - 1.0) * (x[1] + SIDE);
+    }
+    let mut sys = Equilibrium {
+        asm,
+        solid,
+        contact: None,
+        history,
+        dt,
+        depth: 0.0,
+        force_floor: 1e-12,
+    };
+    solve(&mut sys, u, &NewtonParams::default()).unwrap();
+    let ev = asm
+        .evaluate(solid, None, (u, history), dt, 0.0, false)
+        .unwrap();
+    mesh.surface.iter().map(|&n| ev.gradient[2 * n + 1]).sum()
+}
+
+#[test]
+fn uniaxial_hyperfoam_compression_matches_the_closed_form_without_lateral_strain() {
+    let mesh = block();
+    let mut solid = Solid::new(&mesh, Kinematics::Finite, foam(vec![])).unwrap();
+    constrain(&mut solid, &mesh);
+    let mut asm = Assembler::new(&solid, None).unwrap();
+    let mut u = vec![0.0; solid.dofs()];
+    // a non-trivial start, so that Newton has lateral work to undo
+    for (n, x) in mesh.nodes.iter().enumerate() {
+        u[2 * n] = 0.01 * x[0] * (x[1] / SIDE).sin();
+    }
+    for &n in &mesh.axis {
+        u[2 * n] = 0.0;
+    }
+    let area = std::f64::consts::PI * SIDE * SIDE;
+    for lambda in [0.95, 0.8, 0.6, 0.4] {
+        let force = compress(&solid, &mesh, &mut asm, &mut u, &[], lambda, 0.0);
+        let t = 2.0 * 0.35 / 18.8 * (lambda.powf(17.8) - 1.0 / lambda);
+        assert!(
+            (force / area - t).abs() <= CLOSED_FORM_TOL * t.abs(),
+            "λ = {lambda}: {} vs {t}",
+            force / area
+        );
+        let lateral = (0..mesh.nodes.len())
+            .map(|n| u[2 * n].abs())
+            .fold(0.0, f64::max);
+        assert!(
+            lateral <= CLOSED_FORM_TOL * SIDE,
+            "lateral displacement {lateral}"
+        );
+    }
+}
+
+#[test]
+fn step_strain_relaxes_as_g_of_t() {
+    let prony = vec![PronyTerm { g: 0.4, tau: 3.0 }];
+    let mesh = block();
+    let mut solid = Solid::new(&mesh, Kinematics::Finite, foam(prony.clone())).unwrap();
+    constrain(&mut solid, &mesh);
+    let mut asm = Assembler::new(&solid, None).unwrap();
+    let mut u = vec![0.0; solid.dofs()];
+    let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
+    let lambda = 0.7;
+    // the step, in a time negligible against τ
+    let dt0 = 1e-9;
+    let f0 = compress(&solid, &mesh, &mut asm, &mut u, &history, lambda, dt0);
+    solid.commit(&u, &mut history, dt0).unwrap();
+    let mut t = dt0;
+    for dt in [0.1, 0.4, 1.0, 2.5, 5.0, 10.0] {
+        let f = compress(&solid, &mesh, &mut asm, &mut u, &history, lambda, dt);
+        solid.commit(&u, &mut history, dt).unwrap();
+        t += dt;
+        let g = relaxation(&prony, t) / relaxation(&prony, dt0);
+        assert!((f / f0 - g).abs() < RELAX_TOL, "t = {t}: {} vs {g}", f / f0);
+    }
+}
