@@ -61,10 +61,13 @@ pub struct MaterialParams {
 #[serde(default)]
 pub struct MeshParams {
     /// block width, nm (default `size_factor`·a)
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub width: Option<f64>,
     /// block depth, nm (default `size_factor`·a)
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub depth: Option<f64>,
     /// smallest element, nm (default a/`elements_per_radius`; of the order of z₀ with adhesion)
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub smallest: Option<f64>,
     /// block size in contact radii (≥ 10; 50 keeps the rigid-base error ≈ 0.42a/L below 1 %)
     pub size_factor: f64,
@@ -77,6 +80,7 @@ pub struct MeshParams {
     /// size growth per unit distance from the fine zone
     pub grading: f64,
     /// a Gmsh 2.2 mesh to use instead (surface at its top, axis at r = 0)
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub gmsh_file: Option<std::path::PathBuf>,
 }
 

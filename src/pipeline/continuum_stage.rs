@@ -1,0 +1,256 @@
+//! The `continuum` stage: axisymmetric finite-element indentation ([`crate::continuum`], seed
+//! chapter 4) under the scene's displacement schedule — linear, hyperfoam or card material,
+//! optional Prony relaxation, frictionless contact with a rigid sphere or blunt Berkovich.
+//!
+//! Physics the FE does not model yet is refused by name rather than ignored: LJ adhesion
+//! (`[adhesion]`), a machine spring or load control (`[machine]`), arc-length (`solver.method =
+//! "riks"`), and a schedule that starts clear of the surface. The engine's own files (CSV,
+//! plots, VTU) go under `continuum/` in the output folder.
+
+use super::{StageContext, StageError, StageOutput};
+use crate::continuum::indent::{ContactParams, MaterialParams, MeshParams, SolverParams};
+use crate::continuum::indenter::{Indenter, BERKOVICH_CONE_HALF_ANGLE_DEG};
+use crate::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
+use crate::continuum::material::linear::LinearElastic;
+use crate::continuum::material::viscoelastic::PronyTerm;
+use crate::continuum::material::Elastic;
+use crate::continuum::{run_indent, IndentParams, IndentResult, Segment};
+use crate::scene::indenter::Shape;
+use crate::scene::machine::Control;
+use crate::scene::material::MaterialModel;
+use crate::scene::schedule::SegmentKind;
+use crate::scene::solver::{Kinematics, Method};
+use crate::scene::{ResolvedScene, Stage};
+use std::collections::BTreeMap;
+
+fn failed(message: String) -> StageError {
+    StageError::Failed {
+        stage: Stage::Continuum,
+        message,
+    }
+}
+
+fn not_built(what: &str) -> StageError {
+    failed(format!(
+        "{what} is not built into the continuum stage yet (issue 5)"
+    ))
+}
+
+/// The FE parameters of a scene, or the reason they cannot be built.
+pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, StageError> {
+    let s = &scene.scene;
+    if s.adhesion.is_some() {
+        return Err(not_built("LJ adhesion ([adhesion])"));
+    }
+    if let Some(m) = &s.machine {
+        if m.control == Control::Load {
+            return Err(not_built("load control (machine.control = \"load\")"));
+        }
+        if m.stiffness.is_some() {
+            return Err(not_built("a machine spring (machine.stiffness)"));
+        }
+    }
+    let ind = s
+        .indenter
+        .as_ref()
+        .ok_or_else(|| failed("needs [indenter]".into()))?;
+    let indenter = match ind.shape {
+        Shape::Sphere => Indenter::Sphere {
+            radius: ind.radius.0,
+        },
+        Shape::BerkovichBlunt => Indenter::BerkovichBlunt {
+            radius: ind.radius.0,
+            tip_depth: ind
+                .tip_depth
+                .map(|t| t.0)
+                .ok_or_else(|| failed("indenter.tip_depth unresolved".into()))?,
+            half_angle_deg: BERKOVICH_CONE_HALF_ANGLE_DEG,
+        },
+    };
+    let mat = s
+        .material
+        .as_ref()
+        .ok_or_else(|| failed("needs [material]".into()))?;
+    let mut prony: Vec<PronyTerm> = s
+        .viscoelastic
+        .iter()
+        .flat_map(|v| {
+            v.g.iter()
+                .zip(&v.tau)
+                .map(|(g, t)| PronyTerm { g: g.0, tau: t.0 })
+        })
+        .collect();
+    let elastic = match mat.model {
+        MaterialModel::Linear => {
+            let (youngs, poisson) = mat
+                .initial_elastic()
+                .ok_or_else(|| failed("material: youngs and poisson needed".into()))?;
+            Elastic::Linear(LinearElastic { youngs, poisson })
+        }
+        MaterialModel::Hyperfoam => {
+            let (mu, alpha) = (
+                mat.mu.clone().unwrap_or_default(),
+                mat.alpha.clone().unwrap_or_default(),
+            );
+            let beta = mat.beta.clone().unwrap_or_default();
+            Elastic::Hyperfoam(Hyperfoam {
+                terms: mu
+                    .iter()
+                    .zip(&alpha)
+                    .enumerate()
+                    .map(|(i, (m, a))| HyperfoamTerm {
+                        mu: m.0,
+                        alpha: a.0,
+                        beta: beta.get(i).map_or(0.0, |b| b.0),
+                    })
+                    .collect(),
+            })
+        }
+        MaterialModel::Card => {
+            let path = mat
+                .card
+                .as_ref()
+                .ok_or_else(|| failed("material.card: no path".into()))?;
+            let card = crate::homogenize::read_card(path).map_err(|e| failed(e.to_string()))?;
+            if prony.is_empty() {
+                if let Some(p) = &card.prony {
+                    prony =
+                        p.g.iter()
+                            .zip(&p.tau)
+                            .map(|(&g, &tau)| PronyTerm { g, tau })
+                            .collect();
+                }
+            }
+            Elastic::Hyperfoam(Hyperfoam {
+                terms: card
+                    .hyperfoam
+                    .terms
+                    .iter()
+                    .map(|t| HyperfoamTerm {
+                        mu: t.mu,
+                        alpha: t.alpha,
+                        beta: t.beta,
+                    })
+                    .collect(),
+            })
+        }
+    };
+    let sched = s
+        .schedule
+        .as_ref()
+        .ok_or_else(|| failed("needs [schedule]".into()))?;
+    if sched.start.0 != 0.0 {
+        return Err(failed(format!(
+            "schedule.start = {} nm: without adhesion the FE starts at first touch, δ = 0",
+            sched.start.0
+        )));
+    }
+    let number = |a: &Option<crate::scene::quantity::Amount>, key: &str| {
+        a.as_ref()
+            .and_then(|x| x.number())
+            .ok_or_else(|| failed(format!("schedule segment: {key} unresolved")))
+    };
+    let mut schedule = Vec::new();
+    for seg in &sched.segment {
+        schedule.push(match seg.kind {
+            SegmentKind::Hold => Segment::Hold {
+                time: seg
+                    .time
+                    .map(|t| t.0)
+                    .ok_or_else(|| failed("hold segment: time unresolved".into()))?,
+            },
+            SegmentKind::Load | SegmentKind::Approach => Segment::Load {
+                to: number(&seg.to, "to")?,
+                rate: number(&seg.rate, "rate")?,
+            },
+            SegmentKind::Unload => Segment::Unload {
+                to: number(&seg.to, "to")?,
+                rate: number(&seg.rate, "rate")?,
+            },
+        });
+    }
+    let mut solver = SolverParams::default();
+    let mut kinematics = crate::continuum::element::Kinematics::Finite;
+    if let Some(sv) = &s.solver {
+        if sv.method == Method::Riks {
+            return Err(not_built(
+                "arc-length continuation (solver.method = \"riks\")",
+            ));
+        }
+        kinematics = match sv.kinematics {
+            Kinematics::Finite => crate::continuum::element::Kinematics::Finite,
+            Kinematics::Small => crate::continuum::element::Kinematics::Small,
+        };
+        solver.increments = sv.increments;
+        solver.max_cutbacks = sv.max_cutbacks;
+        solver.newton.max_iterations = sv.max_iterations;
+        solver.newton.rtol = sv.tolerance.0;
+    }
+    let mut mesh = MeshParams::default();
+    if let Some(m) = &s.mesh {
+        mesh.width = m.width.map(|l| l.0);
+        mesh.depth = m.depth.map(|l| l.0);
+        mesh.smallest = m.smallest.map(|l| l.0);
+    }
+    Ok(IndentParams {
+        indenter,
+        material: MaterialParams { elastic, prony },
+        kinematics,
+        mesh,
+        schedule,
+        contact: ContactParams::default(),
+        solver,
+    })
+}
+
+/// Run the stage.
+pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
+    let params = indent_params(scene)?;
+    let (result, failure): (IndentResult, Option<String>) = match run_indent(&params, &mut |_| {}) {
+        Ok(r) => (r, None),
+        Err(crate::continuum::FeError::Stopped(r)) => {
+            let why = r.failure.clone();
+            (*r, why)
+        }
+        Err(e) => return Err(failed(e.to_string())),
+    };
+    let dir = ctx.out_dir.join("continuum");
+    result.write(&dir).map_err(|source| StageError::Report {
+        stage: Stage::Continuum,
+        source,
+    })?;
+    if let Some(why) = failure {
+        return Err(failed(format!(
+            "stopped after {} converged increments ({}); the rows so far are in continuum/",
+            result.rows.len(),
+            why
+        )));
+    }
+    let rows = &result.rows;
+    let peak = rows
+        .iter()
+        .max_by(|a, b| a.load_nN.total_cmp(&b.load_nN))
+        .ok_or_else(|| failed("no increment converged".into()))?;
+    let values = BTreeMap::from([
+        ("max_load_nN".to_string(), peak.load_nN),
+        ("depth_at_max_load_nm".to_string(), peak.depth_nm),
+        (
+            "contact_radius_at_max_load_nm".to_string(),
+            peak.contact_radius_nm,
+        ),
+        ("elements".to_string(), result.mesh_report.elements as f64),
+        ("increments".to_string(), rows.len() as f64),
+        ("assembly_s".to_string(), result.stats.assembly.assembly_s),
+        ("solve_s".to_string(), result.stats.assembly.solve_s),
+    ]);
+    Ok(StageOutput {
+        values,
+        tables: Vec::new(),
+        evaluations: rows.iter().map(|r| r.iterations as u64).sum(),
+        files: vec![
+            "continuum/load_depth.csv".into(),
+            "continuum/summary.json".into(),
+            "continuum/plots/load_depth.svg".into(),
+        ],
+    })
+}
