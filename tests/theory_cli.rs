@@ -141,3 +141,16 @@ fn bad_input_gives_a_clear_message() {
     let (ok, _, err) = turf(&["theory", "pulloff", "--model", "maugis", "--lambda", "abc"]);
     assert!(!ok && err.contains("abc"), "{err}");
 }
+
+#[test]
+fn halfspace_json_reports_pull_off_error_and_cost() {
+    // μ = 0.05 is near the DMT limit: −2 within the 1.5 % of tests/halfspace_limits.rs
+    let v = json(&["theory", "halfspace", "--mu", "0.05", "--json"]);
+    let p = v["pull_off_normalized"].as_f64().unwrap();
+    assert!((p + 2.0).abs() < 0.03, "{p}");
+    assert!(v["error_estimate"].as_f64().unwrap() < 1e-3);
+    assert_eq!(v["levels"].as_array().unwrap().len(), 3);
+    assert!(v["cost"]["newton_iterations"].as_u64().unwrap() > 0);
+    let (ok, _, err) = turf(&["theory", "halfspace", "--mu=-1"]);
+    assert!(!ok && err.contains("μ"), "{err}");
+}
