@@ -26,7 +26,9 @@ pub struct NewtonParams {
     /// Armijo constant c
     pub armijo: f64,
     /// a residual below this fraction of the first one that no longer halves per iteration has
-    /// reached round-off (e.g. of C − I in large, barely strained elements): converged
+    /// reached round-off (e.g. of C − I in large, barely strained elements): converged. 1e-6:
+    /// a 10 µm Hertz block unloading to δ → 0 floors at ~4e-7 of the increment's first
+    /// residual (the net force there is tiny, so the relative test alone never passes)
     pub stagnation: f64,
 }
 
@@ -38,7 +40,7 @@ impl Default for NewtonParams {
             atol: 1e-12,
             max_backtracks: 20,
             armijo: 1e-4,
-            stagnation: 1e-8,
+            stagnation: 1e-6,
         }
     }
 }
