@@ -91,8 +91,9 @@ fn hertz_has_no_adhesion_physics_and_a_mesh_from_the_contact_radius() {
     assert!(!adhesion.on);
     let a = (1000.0f64 * 4.0).sqrt();
     let m = l.base.derived.mesh.unwrap();
-    assert!((m.width_nm / (20.0 * a) - 1.0).abs() < ROUNDING);
-    assert!((m.depth_nm / (50.0 * a) - 1.0).abs() < ROUNDING);
+    assert!((m.width_nm / (200.0 * a) - 1.0).abs() < ROUNDING);
+    assert!((m.depth_nm / (200.0 * a) - 1.0).abs() < ROUNDING);
+    assert!((m.grading - 1.2).abs() < ROUNDING);
     assert!((m.smallest_nm / (a / 20.0) - 1.0).abs() < ROUNDING);
 }
 

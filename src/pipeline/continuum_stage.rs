@@ -186,11 +186,13 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         solver.newton.max_iterations = sv.max_iterations;
         solver.newton.rtol = sv.tolerance.0;
     }
+    // the plan's mesh sizes (given or derived, as `turf check` prints them) are the ones meshed
     let mut mesh = MeshParams::default();
-    if let Some(m) = &s.mesh {
-        mesh.width = m.width.map(|l| l.0);
-        mesh.depth = m.depth.map(|l| l.0);
-        mesh.smallest = m.smallest.map(|l| l.0);
+    if let Some(m) = &scene.derived.mesh {
+        mesh.width = Some(m.width_nm);
+        mesh.depth = Some(m.depth_nm);
+        mesh.smallest = Some(m.smallest_nm);
+        mesh.grading = m.grading - 1.0;
     }
     Ok(IndentParams {
         indenter,

@@ -1,19 +1,26 @@
 //! `[mesh]`: the axisymmetric FE mesh — graded triangles, small at the contact, large far away
-//! (seed ch. 4). Every size defaults from the expected contact radius a (PHYSICS.md): the
-//! body is 20a wide and 50a deep (a rigid bottom at depth L adds a compliance error of about
-//! 0.42·a/L), with ~20 elements across a and, with adhesion, ≥ 10 across the LJ process zone
-//! E*r²/γ, where r is the law's range: z₀, plus the thermal shift u when there is one.
+//! (seed ch. 4). Every size defaults from the expected contact radius a (PHYSICS.md), with the
+//! FE engine's own defaults ([`crate::continuum::indent::DEFAULT_BLOCK_FACTOR`] and the rest):
+//! the body is 200a wide and deep (a rigid bottom at depth L adds a compliance error of about
+//! 0.42·a/L, a free side at a small width a larger one of the other sign), with ~20 elements
+//! across a and, with adhesion, ≥ 10 across the LJ process zone E*r²/γ, where r is the law's
+//! range: z₀, plus the thermal shift u when there is one. These derived sizes are the ones the
+//! continuum stage meshes.
 
 use super::check::Checker;
 use super::quantity::{Length, Number};
 use serde::{Deserialize, Serialize};
 
+use crate::continuum::indent::{
+    DEFAULT_BLOCK_FACTOR, DEFAULT_ELEMENTS_PER_RADIUS, DEFAULT_GRADING,
+};
+
 /// Default width of the body in expected contact radii (PHYSICS.md: at least 10).
-pub const WIDTH_PER_CONTACT_RADIUS: f64 = 20.0;
-/// Default depth of the body in expected contact radii (PHYSICS.md: ~50 for a 1 % Hertz check).
-pub const DEPTH_PER_CONTACT_RADIUS: f64 = 50.0;
+pub const WIDTH_PER_CONTACT_RADIUS: f64 = DEFAULT_BLOCK_FACTOR;
+/// Default depth of the body in expected contact radii.
+pub const DEPTH_PER_CONTACT_RADIUS: f64 = DEFAULT_BLOCK_FACTOR;
 /// Default elements across the contact radius (PHYSICS.md).
-pub const ELEMENTS_PER_CONTACT_RADIUS: f64 = 20.0;
+pub const ELEMENTS_PER_CONTACT_RADIUS: f64 = DEFAULT_ELEMENTS_PER_RADIUS;
 /// Default elements across the LJ process zone (PHYSICS.md).
 pub const ELEMENTS_PER_PROCESS_ZONE: f64 = 10.0;
 
@@ -21,23 +28,24 @@ pub const ELEMENTS_PER_PROCESS_ZONE: f64 = 10.0;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Mesh {
-    /// Radius of the modelled body, nm. Default 20 × the expected contact radius.
+    /// Radius of the modelled body, nm. Default 200 × the expected contact radius.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub width: Option<Length>,
-    /// Depth of the modelled body (rigid bottom), nm. Default 50 × the expected contact radius.
+    /// Depth of the modelled body (rigid bottom), nm. Default 200 × the expected contact radius.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth: Option<Length>,
     /// Smallest element size, at the contact, nm. Default a/20, and with adhesion at most a
     /// tenth of the process zone E*(z₀ + u)²/γ (u: the thermal shift, 0 without).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub smallest: Option<Length>,
-    /// Growth factor of element size away from the contact, > 1 (at most 2). Default 1.15.
+    /// Growth factor of element size away from the contact: the size ratio of neighbouring
+    /// elements, > 1 (at most 2). Default 1.2.
     #[serde(default = "default_grading")]
     pub grading: Number,
 }
 
 fn default_grading() -> Number {
-    Number(1.15)
+    Number(1.0 + DEFAULT_GRADING)
 }
 
 impl Default for Mesh {

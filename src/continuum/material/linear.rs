@@ -5,6 +5,14 @@
 //! (C = I + 2ε) this is exactly Hooke's law σ = λ tr(ε) I + 2με.
 //! Lamé constants from Young's modulus E and Poisson's ratio ν:
 //! λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)).
+//!
+//! St Venant–Kirchhoff has a limit point in compression: the uniaxial nominal stress
+//! Eλ(λ² − 1)/2 is most compressive at λ² = 1/3 and returns to zero as λ → 0, so a crushed
+//! element is a spurious stress-free equilibrium (a large first Newton step into contact can
+//! land there: a Hertz run in 5 increments carried 27 % too little load). A point with a
+//! principal value of C below [`SVK_MIN_STRETCH_SQUARED`] is therefore an error
+//! ([`MaterialError::OutOfRange`]): the line search backs off, or the increment is cut back.
+//! Under small kinematics the same bound is a strain of −1/3, far outside linear elasticity.
 
 use super::{
     add_scaled, contract, finite, jacobian, outer, sym_product, Material, MaterialError, Response,
@@ -49,9 +57,24 @@ impl LinearElastic {
     }
 }
 
+/// The smallest principal value of C (stretch²) accepted: SVK's uniaxial limit point 1/3.
+pub const SVK_MIN_STRETCH_SQUARED: f64 = 1.0 / 3.0;
+
+/// The smallest principal value of C (in-plane block and hoop).
+fn min_principal(c: &Voigt) -> f64 {
+    let (m, d) = (0.5 * (c[0] + c[1]), 0.5 * (c[0] - c[1]));
+    (m - d.hypot(c[3])).min(c[2])
+}
+
 impl Material for LinearElastic {
     fn response(&self, c: &Voigt, _history: &[f64], _dt: f64) -> Result<Response, MaterialError> {
         jacobian(c)?;
+        let c_min = min_principal(c);
+        if !(c_min >= SVK_MIN_STRETCH_SQUARED) {
+            return Err(MaterialError::OutOfRange(format!(
+                "St Venant–Kirchhoff compressed past its limit point (principal stretch² {c_min:.4} < 1/3)"
+            )));
+        }
         let (lam, mu) = self.lame();
         let e: Voigt = [
             0.5 * (c[0] - 1.0),
@@ -132,5 +155,23 @@ mod tests {
         }
         .validate()
         .is_err());
+    }
+
+    #[test]
+    fn compression_past_the_limit_point_is_an_error() {
+        let m = LinearElastic {
+            youngs: 1.0,
+            poisson: 0.3,
+        };
+        // uniaxial: the nominal stress λS is most compressive at λ² = 1/3
+        let nominal =
+            |l2: f64| l2.sqrt() * m.response(&[1.0, l2, 1.0, 0.0], &[], 0.0).unwrap().stress[1];
+        assert!(nominal(0.34) < nominal(0.36) && nominal(0.34) < nominal(0.5));
+        // a sheared point whose smallest principal value is below 1/3 (eigenvalues 1 ± 0.7)
+        assert!(matches!(
+            m.response(&[1.0, 1.0, 1.0, 0.7], &[], 0.0),
+            Err(MaterialError::OutOfRange(_))
+        ));
+        assert!(m.response(&[1.0, 1.0, 1.0, 0.6], &[], 0.0).is_ok());
     }
 }

@@ -60,6 +60,9 @@ pub enum MaterialError {
     /// the parameters are outside the model's range
     #[error("invalid material parameters: {0}")]
     Invalid(String),
+    /// the deformation is outside the range where the model is physical
+    #[error("material point outside the model's range: {0}")]
+    OutOfRange(String),
 }
 
 /// A constitutive model evaluated at one material point.
