@@ -168,7 +168,15 @@ pub fn solve<P: Problem>(
     let mut gradient_test = f64::INFINITY;
     let mut iterations = 0;
     let mut j = problem.jacobian(p.as_slice());
-    while iterations < params.max_iterations {
+    let termination = loop {
+        if iterations >= params.max_iterations {
+            return Err(Error::NoConvergence {
+                iterations,
+                cost,
+                gradient: gradient_test,
+                best: p.as_slice().to_vec(),
+            });
+        }
         if j.iter().any(|x| !x.is_finite()) {
             return Err(Error::NonFiniteJacobian {
                 at: p.as_slice().to_vec(),
@@ -176,18 +184,7 @@ pub fn solve<P: Problem>(
         }
         let r_norm = r.norm();
         if r_norm == 0.0 {
-            return Ok(finish(
-                problem,
-                p,
-                j,
-                cost,
-                history,
-                iterations,
-                evaluations,
-                Termination::ZeroResidual,
-                m,
-                n,
-            ));
+            break Termination::ZeroResidual;
         }
         let col_norms: Vec<f64> = (0..n).map(|c| j.column(c).norm()).collect();
         let g = j.transpose() * &r;
@@ -196,18 +193,7 @@ pub fn solve<P: Problem>(
             .map(|c| g[c].abs() / (col_norms[c] * r_norm))
             .fold(0.0, f64::max);
         if gradient_test <= params.gradient_tol {
-            return Ok(finish(
-                problem,
-                p,
-                j,
-                cost,
-                history,
-                iterations,
-                evaluations,
-                Termination::Gradient,
-                m,
-                n,
-            ));
+            break Termination::Gradient;
         }
         let jtj = j.transpose() * &j;
         // One damped step; on rejection the damping grows and the step is retried.
@@ -253,32 +239,10 @@ pub fn solve<P: Problem>(
                     lambda *= (1.0f64 / 3.0).max(1.0 - (2.0 * rho - 1.0).powi(3));
                     nu = 2.0;
                     if step_scaled <= params.step_tol * (p_scaled + params.step_tol) {
-                        return Ok(finish(
-                            problem,
-                            p,
-                            j,
-                            cost,
-                            history,
-                            iterations,
-                            evaluations,
-                            Termination::Step,
-                            m,
-                            n,
-                        ));
+                        break Termination::Step;
                     }
                     if actual_rel.abs() <= params.cost_tol && predicted_rel <= params.cost_tol {
-                        return Ok(finish(
-                            problem,
-                            p,
-                            j,
-                            cost,
-                            history,
-                            iterations,
-                            evaluations,
-                            Termination::Cost,
-                            m,
-                            n,
-                        ));
+                        break Termination::Cost;
                     }
                     true
                 } else {
@@ -293,54 +257,22 @@ pub fn solve<P: Problem>(
             if !lambda.is_finite() || lambda > 1e300 {
                 // the damping cannot grow further: no descent direction remains at this
                 // precision, which is convergence of the cost
-                return Ok(finish(
-                    problem,
-                    p,
-                    j,
-                    cost,
-                    history,
-                    iterations,
-                    evaluations,
-                    Termination::Cost,
-                    m,
-                    n,
-                ));
+                break Termination::Cost;
             }
         }
-    }
-    Err(Error::NoConvergence {
-        iterations,
-        cost,
-        gradient: gradient_test,
-        best: p.as_slice().to_vec(),
-    })
-}
-
-#[allow(clippy::too_many_arguments)]
-fn finish<P: Problem>(
-    _problem: &P,
-    p: DVector<f64>,
-    j: DMatrix<f64>,
-    cost: f64,
-    cost_history: Vec<f64>,
-    iterations: usize,
-    evaluations: usize,
-    termination: Termination,
-    m: usize,
-    n: usize,
-) -> (Vec<f64>, Info) {
+    };
     let covariance = covariance(&j, cost, m, n);
-    (
+    Ok((
         p.as_slice().to_vec(),
         Info {
             iterations,
             evaluations,
             cost,
-            cost_history,
+            cost_history: history,
             termination,
             covariance,
         },
-    )
+    ))
 }
 
 /// s²(JᵀJ)⁻¹, computed with the columns scaled to unit norm for conditioning.
