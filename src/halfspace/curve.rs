@@ -361,15 +361,35 @@ pub(crate) struct Trace<'a, T: Traction> {
     pub(crate) remeshes: usize,
 }
 
-/// The edge may come this close (as a fraction of the zone width, 4ℓ for the default window of
-/// 16ℓ) to an end of the uniform zone before the grid is rebuilt around it: the gap opens over a
-/// few ℓ ahead of the edge, and the pressure has its crack-tip peak a few ℓ behind it.
+/// The edge may come this close (as a fraction of the window width `window_zones` ℓ, 4ℓ for the
+/// default 16ℓ) to an end of the uniform zone before the grid is rebuilt around it: the gap opens
+/// over a few ℓ ahead of the edge, and the pressure has its crack-tip peak a few ℓ behind it.
 const REMESH_MARGIN: f64 = 0.25;
 
-/// True if the contact edge `a` is still well inside the uniform zone of `spec`.
-fn edge_inside(spec: &GridSpec, a: f64) -> bool {
-    let margin = REMESH_MARGIN * (spec.zone_hi - spec.zone_lo);
-    a <= spec.zone_hi - margin && (spec.zone_lo <= 0.0 || a >= spec.zone_lo + margin)
+/// The uniform zone must also cover every radius where the gap is below this (z₀). A graded
+/// ring of width s at gap H is unstable on its own (the diagonal 1 − A_ii k̄(H) of the Jacobian
+/// turns negative, a discrete jump of one ring) once its self-compliance A_ii ∝ μ^{3/2}s times the
+/// law's stiffness k̄ exceeds 1; beyond H = 3 the LJ stiffness is below 0.1 γ/z₀² (9-3: 0.098),
+/// about a fifth of its value at H = 2, so graded cells are safe there.
+pub(crate) const NEAR_GAP: f64 = 3.0;
+
+/// Outermost node radius where the gap is below [`NEAR_GAP`] (0 if none).
+pub(crate) fn near_reach<T: Traction>(sys: &System<'_, T>, state: &State) -> f64 {
+    sys.grid
+        .nodes
+        .iter()
+        .zip(&state.gaps)
+        .filter(|(_, &h)| h < NEAR_GAP)
+        .map(|(&r, _)| r)
+        .fold(0.0, f64::max)
+}
+
+/// True if the contact edge `a` is still `margin` inside the uniform zone of `spec`, and the
+/// reach `near` of small gaps is inside it.
+fn edge_inside(spec: &GridSpec, a: f64, near: f64, margin: f64) -> bool {
+    a <= spec.zone_hi - margin
+        && (spec.zone_lo <= 0.0 || a >= spec.zone_lo + margin)
+        && near <= spec.zone_hi
 }
 
 /// Move a converged point onto `sys` (a rebuilt grid): transfer the gaps and the tangent and
@@ -410,16 +430,18 @@ pub(crate) fn remesh<T: Traction>(
 }
 
 /// Trace the S-curve from beyond jump-in until the load passes its minimum and reaches
-/// `end_load`. The grid is `window(a)` for the current contact radius a, rebuilt whenever the
-/// edge nears an end of its uniform zone (a `window` that ignores a gives one fixed grid).
+/// `end_load`. The grid is `window(a, r)` for the current contact radius a and reach r of small
+/// gaps ([`near_reach`] plus the remesh margin), rebuilt whenever the edge nears an end of its
+/// uniform zone or the small gaps reach beyond it (a `window` that ignores its arguments gives
+/// one fixed grid).
 pub(crate) fn trace_on<'a, T: Traction>(
     problem: &'a Problem<T>,
-    window: &dyn Fn(f64) -> GridSpec,
+    window: &dyn Fn(f64, f64) -> GridSpec,
     params: &HalfspaceParams,
     cost: &mut Cost,
 ) -> Result<Trace<'a, T>, HalfspaceError> {
     let mu = problem.tabor();
-    let mut spec = window(0.0);
+    let mut spec = window(0.0, 0.0);
     let mut sys = Rc::new(System::new(problem, spec.build()));
     cost.max_nodes = cost.max_nodes.max(sys.len());
     let h_start = start_gap(mu, params);
@@ -440,8 +462,11 @@ pub(crate) fn trace_on<'a, T: Traction>(
     let mut remeshes = 0;
     loop {
         let a = prev.point.contact_radius;
-        if !edge_inside(&spec, a) {
-            let new_spec = window(a);
+        let near = near_reach(&sys, &prev.state);
+        let margin =
+            REMESH_MARGIN * params.window_zones * spec.fine_spacing * params.cells_per_zone;
+        if !edge_inside(&spec, a, near, margin) {
+            let new_spec = window(a, near + margin);
             if new_spec != spec {
                 let new_sys = Rc::new(System::new(problem, new_spec.build()));
                 cost.max_nodes = cost.max_nodes.max(new_sys.len());
@@ -504,7 +529,7 @@ pub fn trace_curve<T: Traction>(
 ) -> Result<Curve, HalfspaceError> {
     let start = Instant::now();
     let mut cost = Cost::default();
-    let window = |a: f64| super::refinement::trace_grid(problem, params, a);
+    let window = |a: f64, near: f64| super::refinement::trace_grid(problem, params, a, near);
     let trace = trace_on(problem, &window, params, &mut cost)?;
     cost.wall_time = start.elapsed().as_secs_f64();
     let sys = &trace.pull_off_system;

@@ -16,7 +16,7 @@
 //! |F₃ − F₂|/(r^p − 1); when the sequence is not monotone or p is outside [1/2, 4] the estimate
 //! falls back to |F₃ − F₂| (conservative). The tail estimate is added to the error.
 
-use super::curve::{locate, remesh, step_from, trace_on, Slope, Solved};
+use super::curve::{locate, near_reach, remesh, step_from, trace_on, Slope, Solved};
 use super::grid::GridSpec;
 use super::solve::System;
 use super::{Cost, HalfspaceError, HalfspaceParams, Problem, Scales, Traction};
@@ -43,13 +43,15 @@ fn outer_radius<T: Traction>(problem: &Problem<T>, mu: f64, params: &HalfspacePa
 /// The grid on which the curve is traced while the contact edge is near radius `edge`: uniform
 /// with `cells_per_zone` cells per ℓ over a zone that covers every radius the edge visits (up to
 /// 1.2 × the JKR radius at zero load, ρ₀ = (9π/2)^{1/3} μ^{1/2}, and at least 3) when that zone
-/// is at most `window_zones` ℓ wide (then `edge` is ignored); otherwise (large μ) over a window of
-/// that width from 40 % of it behind the edge to 60 % ahead (the edge grows along the trace),
-/// graded towards the centre and outwards.
+/// is at most `window_zones` ℓ wide (then `edge` and `near` are ignored); otherwise (large μ)
+/// over a window of that width from 40 % of it behind the edge to 60 % ahead (the edge grows
+/// along the trace), extended out to `near` (where the gap is still small,
+/// [`super::curve::NEAR_GAP`]), graded towards the centre and outwards.
 pub fn trace_grid<T: Traction>(
     problem: &Problem<T>,
     params: &HalfspaceParams,
     edge: f64,
+    near: f64,
 ) -> GridSpec {
     let mu = problem.tabor();
     let ell = process_zone(mu);
@@ -60,7 +62,7 @@ pub fn trace_grid<T: Traction>(
         (0.0, swept)
     } else {
         let lo = (edge - 0.4 * window).max(0.0);
-        (lo, lo + window)
+        (lo, (lo + window).max(near))
     };
     GridSpec {
         fine_spacing: ell / params.cells_per_zone,
@@ -119,14 +121,21 @@ impl PullOff {
 }
 
 /// The pull-off grid: uniform over the contact edge at pull-off ± (2ℓ + 2 % of the contact
-/// radius), graded towards the centre and outwards.
-fn pull_off_grid(mu: f64, contact_radius: f64, outer: f64, params: &HalfspaceParams) -> GridSpec {
+/// radius) and out to `near` (where the gap is still small), graded towards the centre and
+/// outwards.
+fn pull_off_grid(
+    mu: f64,
+    contact_radius: f64,
+    near: f64,
+    outer: f64,
+    params: &HalfspaceParams,
+) -> GridSpec {
     let ell = process_zone(mu);
     let half_width = 2.0 * ell + 0.02 * contact_radius;
     GridSpec {
         fine_spacing: ell / params.cells_per_zone,
         zone_lo: (contact_radius - half_width).max(0.0),
-        zone_hi: contact_radius + half_width,
+        zone_hi: (contact_radius + half_width).max(near),
         growth: params.growth,
         outer,
     }
@@ -178,12 +187,13 @@ pub fn pull_off<T: Traction>(
     let start = Instant::now();
     let mu = problem.tabor();
     let mut cost = Cost::default();
-    let window = |a: f64| trace_grid(problem, params, a);
+    let window = |a: f64, near: f64| trace_grid(problem, params, a, near);
     let trace = trace_on(problem, &window, params, &mut cost)?;
     let base = pull_off_grid(
         mu,
         trace.pull_off.point.contact_radius,
-        window(0.0).outer,
+        near_reach(&trace.pull_off_system, &trace.pull_off.state),
+        window(0.0, 0.0).outer,
         params,
     );
     let mut levels = Vec::new();
@@ -196,7 +206,7 @@ pub fn pull_off<T: Traction>(
             // the local search can lose the minimum where the slope dF̄/dD is rough on a grid
             // (the edge crossing cells): trace the whole curve on this grid instead
             Err(_) => {
-                let fixed = |_: f64| spec;
+                let fixed = |_: f64, _: f64| spec;
                 let t = trace_on(problem, &fixed, params, &mut cost)?;
                 (t.pull_off_system, t.pull_off)
             }
