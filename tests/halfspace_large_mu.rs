@@ -1,6 +1,7 @@
 //! Half-space adhesion solver towards the JKR limit (Johnson, Kendall & Roberts 1971): at large
-//! Tabor parameter the load-control pull-off tends to −1.5πγR and the displacement-control
-//! jump-out load to −(5/6)πγR, both from below (more adhesive). μ = 3 is the largest case that
+//! Tabor parameter the load-control pull-off tends to −1.5πγR from below (more adhesive) and the
+//! displacement-control jump-out load to −(5/6)πγR (from below for 9-3; the 10-4 law crosses it:
+//! −0.8205 at μ = 5). μ = 3 is the largest case that
 //! traces in a few seconds in the test profile; it already uses the grid window that follows the
 //! contact edge (16ℓ < the swept radius) and rebuilds the grid on the way. The heavy sweep up to
 //! μ = 10 is `cargo run --release --example halfspace_sweep -- 5 10` (docs/validation-halfspace.md).
@@ -17,8 +18,9 @@ const JKR_JUMP_OUT: f64 = -5.0 / 6.0;
 /// 2–3 % more adhesive than Maugis–Dugdale at μ ≈ 2–3 (docs/validation-halfspace.md); 4 % admits
 /// both, while a solver stuck at intermediate-μ behaviour (μ = 1: 11 % and 7 % from JKR) fails.
 const PULL_OFF_TOL: f64 = 0.04;
-/// The jump-out load at μ = 3 lies within this (relative) of JKR's −5/6: measured 5 % (9-3) —
-/// the approach to the limit is slower under displacement control.
+/// The jump-out load at μ = 3 lies within this (relative) of JKR's −5/6: measured 5 % for 9-3
+/// (the approach to the limit is slower under displacement control); twice the distance of a
+/// value that has reached the JKR regime, and far from the DMT-like μ = 1 values (24 %, 10 %).
 const JUMP_OUT_TOL: f64 = 0.08;
 
 #[test]
@@ -38,9 +40,8 @@ fn large_tabor_approaches_jkr_from_below() {
         // the window grid was moved with the contact edge
         assert!(c3.remeshes > 0, "{kind:?}: no remesh at μ = 3");
         let jo = c3.jump_out.expect("an S-curve at μ = 3").load;
-        assert!(jo < JKR_JUMP_OUT, "{kind:?}: jump-out {jo}");
         assert!(
-            (jo / JKR_JUMP_OUT - 1.0) < JUMP_OUT_TOL,
+            (jo / JKR_JUMP_OUT - 1.0).abs() < JUMP_OUT_TOL,
             "{kind:?}: jump-out {jo} at μ = 3"
         );
         // jump-out on retraction lies before pull-off in load: −5/6 against −1.5 in JKR

@@ -16,6 +16,7 @@
 //! |F₃ − F₂|/(r^p − 1); when the sequence is not monotone or p is outside [1/2, 4] the estimate
 //! falls back to |F₃ − F₂| (conservative). The tail estimate is added to the error.
 
+use super::curve::CurvePoint;
 use super::curve::{locate, near_reach, remesh, step_from, trace_on, Slope, Solved};
 use super::grid::GridSpec;
 use super::solve::System;
@@ -105,6 +106,11 @@ pub struct PullOff {
     pub central_gap: f64,
     /// contact radius at pull-off, √(Rz₀)
     pub contact_radius: f64,
+    /// jump-in on approach under displacement control, from the trace (trace grid, no error
+    /// estimate); `None` without an S-curve
+    pub jump_in: Option<CurvePoint>,
+    /// jump-out on retraction under displacement control, from the trace
+    pub jump_out: Option<CurvePoint>,
     /// rigid estimate of the scaled load of the truncated tail
     pub tail_load: f64,
     /// total cost (trace + every level)
@@ -197,6 +203,10 @@ pub fn pull_off<T: Traction>(
         params,
     );
     let mut levels = Vec::new();
+    let (jump_in, jump_out) = (
+        trace.jump_in.map(|s| s.point),
+        trace.jump_out.map(|s| s.point),
+    );
     let (mut sys, mut solved) = (trace.pull_off_system, trace.pull_off);
     for level in 0..3 {
         let t0 = Instant::now();
@@ -245,6 +255,8 @@ pub fn pull_off<T: Traction>(
         approach: solved.state.approach,
         central_gap: solved.point.central_gap,
         contact_radius: solved.point.contact_radius,
+        jump_in,
+        jump_out,
         tail_load,
         cost,
         scales: problem.scales(),
