@@ -12,7 +12,7 @@ fn main() -> anyhow::Result<()> {
         _ => LjKind::Lj93,
     };
     let curve = trace_curve(&Problem::scaled(mu, kind)?, &HalfspaceParams::default())?;
-    println!("central_gap,approach,load,contact_radius,dD_dH0,dF_dH0");
+    println!("central_gap,approach,load,contact_radius,dD_ds,dF_ds");
     for p in &curve.points {
         println!(
             "{},{},{},{},{},{}",
@@ -20,13 +20,14 @@ fn main() -> anyhow::Result<()> {
         );
     }
     eprintln!(
-        "mu {mu}: pull-off {:.6} (H0 {:.4}, a {:.4}), jump-in {:?}, jump-out {:?}, {} nodes, {:?}",
+        "mu {mu}: pull-off {:.6} (H0 {:.4}, a {:.4}), jump-in {:?}, jump-out {:?}, {} nodes, {} remeshes, {:?}",
         curve.pull_off.load,
         curve.pull_off.central_gap,
         curve.pull_off.contact_radius,
         curve.jump_in.map(|p| (p.load, p.approach)),
         curve.jump_out.map(|p| (p.load, p.approach)),
         curve.nodes,
+        curve.remeshes,
         curve.cost
     );
     Ok(())

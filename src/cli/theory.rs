@@ -342,6 +342,9 @@ fn halfspace(a: &HalfspaceArgs) -> anyhow::Result<Value> {
         .iter()
         .map(|l| json!({"nodes": l.nodes, "pull_off_normalized": l.pull_off, "wall_time_s": l.wall_time}))
         .collect();
+    let jump = |p: Option<turf::halfspace::CurvePoint>| {
+        p.map(|p| json!({"load_normalized": p.load, "approach_z0": p.approach, "contact_radius_scaled": p.contact_radius}))
+    };
     Ok(json!({
         "model": "halfspace",
         "law": match kind { LjKind::Lj93 => "lj93", LjKind::Lj104 => "lj104" },
@@ -350,6 +353,8 @@ fn halfspace(a: &HalfspaceArgs) -> anyhow::Result<Value> {
         "pull_off_normalized": p.normalized,
         "error_estimate": p.error_estimate,
         "contact_radius_scaled": p.contact_radius,
+        "jump_in": jump(p.jump_in),
+        "jump_out": jump(p.jump_out),
         "levels": levels,
         "cost": {
             "newton_iterations": p.cost.newton_iterations,

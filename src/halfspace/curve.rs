@@ -1,17 +1,34 @@
-//! Tracing the load–approach S-curve by continuation in the central gap, and locating its
-//! special points: jump-in and jump-out (turning points of the approach D, where dD/dH(0) = 0)
-//! and pull-off (the minimum load, where dF̄/dH(0) = 0).
+//! Tracing the load–approach S-curve by pseudo-arclength continuation, and locating its
+//! special points: jump-in and jump-out (turning points of the approach D) and pull-off (the
+//! load minimum).
 //!
-//! Tracing starts at a central gap beyond jump-in from the rigid profile and steps H(0)
-//! downwards with a tangent predictor (the corrector prescribes D instead of H(0) where
-//! |dD/dH(0)| > 1: on the contact branch H(0) barely moves and the H(0)-bordered system is
-//! badly conditioned); the step grows after easy solves, shrinks after hard
-//! ones, keeps the predicted change of every nodal gap below `max_gap_change`, and is cut back
-//! on failure. A sign change of a slope between two points is refined by the Illinois (modified
-//! regula falsi) method on the slope, each evaluation a Newton solve from the nearer end.
+//! **Path.** The discrete equilibria form a curve in x = (H₀ … H_{N−1}, D) space. Each step
+//! predicts along the unit tangent τ (the null vector of the equilibrium Jacobian, oriented like
+//! the previous one) and corrects with Newton on the bordered system whose last equation is
+//! τ·(x − x_prev) = Δs (Keller's pseudo-arclength; [`Control::Arc`]). The bordered Jacobian is
+//! regular at turning points of D, of the load and of H(0) alike, so the tracer follows the
+//! small folds a coarse grid adds when the contact edge crosses a cell (lattice trapping) as well
+//! as the physical ones. The step Δs keeps the predicted change of every nodal gap below
+//! `max_gap_change` (and of H(0) below `max_step`), grows after a success, is halved on failure,
+//! and a corrector that lands farther than `max_gap_change` from its predictor is rejected
+//! (it has jumped to another branch).
+//!
+//! **Special points**, in the order the retraction meets them (the trace runs from far away into
+//! contact): jump-in on approach under displacement control is the first maximum of D; jump-out
+//! on retraction under displacement control is the last minimum of D; pull-off under load control
+//! is the last minimum of F̄ (on a converged grid each is unique). Each is located by the Illinois
+//! (modified regula falsi) method on dD/ds or dF̄/ds against the arclength measured along the
+//! tangent of one end of the bracketing step.
+//!
+//! **Grid.** With a large μ the contact edge sweeps a radius many process zones wide; the grid is
+//! then fine only over a window around the edge ([`super::refinement::trace_grid`]) and is
+//! rebuilt around the edge (the state transferred and re-solved) when the edge nears an end of
+//! the window.
 
+use super::grid::{Grid, GridSpec};
 use super::solve::{Control, State, System, Tangent};
 use super::{Cost, HalfspaceError, HalfspaceParams, Problem, Scales, Traction};
+use std::rc::Rc;
 use std::time::Instant;
 
 /// A point of the curve, scaled units (see [`super`]): load in πγR, gaps in z₀, radii in √(Rz₀).
@@ -25,9 +42,11 @@ pub struct CurvePoint {
     pub load: f64,
     /// contact radius (where h = z₀)
     pub contact_radius: f64,
-    /// dD/dH(0): negative on stable branches under displacement control
+    /// dD/ds along the path (unit arclength in (gaps, D) space, oriented from far away into
+    /// contact): positive where the approach grows, i.e. on branches stable under displacement
+    /// control
     pub slope_approach: f64,
-    /// dF̄/dH(0)
+    /// dF̄/ds along the same path
     pub slope_load: f64,
 }
 
@@ -36,17 +55,19 @@ pub struct CurvePoint {
 pub struct Curve {
     /// Tabor parameter μ
     pub tabor: f64,
-    /// the points, in order of decreasing central gap
+    /// the points, in the order traced (from far away into contact)
     pub points: Vec<CurvePoint>,
     /// jump-to-contact on approach under displacement control (first maximum of D); `None`
     /// when the curve has no S (small μ)
     pub jump_in: Option<CurvePoint>,
-    /// jump-out on retraction under displacement control (the minimum of D after jump-in)
+    /// jump-out on retraction under displacement control (the last minimum of D)
     pub jump_out: Option<CurvePoint>,
-    /// pull-off under load control: the minimum load
+    /// pull-off under load control (the last minimum of the load)
     pub pull_off: CurvePoint,
-    /// grid nodes
+    /// nodes of the grid on which the pull-off was found
     pub nodes: usize,
+    /// times the grid was rebuilt around the moving contact edge
+    pub remeshes: usize,
     /// rigid estimate of the scaled load of the truncated tail at pull-off
     pub tail_load: f64,
     /// cost of the trace
@@ -55,42 +76,74 @@ pub struct Curve {
     pub scales: Scales,
 }
 
-/// One converged point with its state and tangent.
+/// One converged point with its state and oriented unit tangent.
 #[derive(Clone)]
 pub(crate) struct Solved {
-    pub(crate) h0: f64,
     pub(crate) state: State,
     pub(crate) tangent: Tangent,
     pub(crate) point: CurvePoint,
 }
 
-/// Solve under `control` from a neighbouring solved point, with the tangent predictor.
-pub(crate) fn solve_from<T: Traction>(
+impl Solved {
+    /// The state as one vector (gaps, then D).
+    fn vector(&self) -> Vec<f64> {
+        let mut v = self.state.gaps.clone();
+        v.push(self.state.approach);
+        v
+    }
+
+    /// The same point with the path oriented the other way.
+    pub(crate) fn reversed(&self) -> Solved {
+        let tangent = self.tangent.reversed();
+        let point = CurvePoint {
+            slope_approach: tangent.approach,
+            slope_load: tangent.load,
+            ..self.point
+        };
+        Solved {
+            state: self.state.clone(),
+            tangent,
+            point,
+        }
+    }
+}
+
+/// Tangent (oriented along `orientation`) and curve point of a converged state.
+pub(crate) fn finish<T: Traction>(
     sys: &System<'_, T>,
-    from: &Solved,
-    control: Control,
+    state: State,
+    orientation: &[f64],
+) -> Result<Solved, HalfspaceError> {
+    let tangent = sys.tangent(&state, orientation)?;
+    let point = CurvePoint {
+        central_gap: state.gaps[0],
+        approach: state.approach,
+        load: sys.load(&state),
+        contact_radius: sys.contact_radius(&state),
+        slope_approach: tangent.approach,
+        slope_load: tangent.load,
+    };
+    Ok(Solved {
+        state,
+        tangent,
+        point,
+    })
+}
+
+/// Solve with `control` from `guess`; reject a corrector that moves any gap by more than
+/// `max_gap_change` from the guess (it has jumped to another branch). The tangent is oriented
+/// along `orientation`.
+fn correct<T: Traction>(
+    sys: &System<'_, T>,
+    control: &Control,
+    guess: State,
+    orientation: &[f64],
     params: &HalfspaceParams,
     cost: &mut Cost,
 ) -> Result<Solved, HalfspaceError> {
-    // path parameter change Δ(H(0)) implied by the target
-    let dh = match control {
-        Control::CentralGap(h0) => h0 - from.h0,
-        Control::Approach(d) => (d - from.state.approach) / from.tangent.approach,
-    };
-    let guess = State {
-        gaps: from
-            .state
-            .gaps
-            .iter()
-            .zip(&from.tangent.gaps)
-            .map(|(g, t)| g + dh * t)
-            .collect(),
-        approach: from.state.approach + dh * from.tangent.approach,
-    };
     let (state, iterations) = sys.solve(control, guess.clone(), params)?;
     cost.newton_iterations += iterations;
     cost.solves += 1;
-    // a corrector that lands far from the predictor has jumped to another branch
     let moved = state
         .gaps
         .iter()
@@ -101,72 +154,72 @@ pub(crate) fn solve_from<T: Traction>(
             central_gap: state.gaps[0],
             residual: moved,
             iterations,
-            step: dh,
+            step: 0.0,
         });
     }
-    finish(sys, state.gaps[0], state)
+    finish(sys, state, orientation)
 }
 
-/// Tangent and curve point of a converged state.
-pub(crate) fn finish<T: Traction>(
+/// The point at arclength `length` along the tangent of `from` (pseudo-arclength corrector), from
+/// `guess` (the tangent predictor if `None`).
+pub(crate) fn arc_from<T: Traction>(
     sys: &System<'_, T>,
-    h0: f64,
-    state: State,
+    from: &Solved,
+    length: f64,
+    guess: Option<State>,
+    params: &HalfspaceParams,
+    cost: &mut Cost,
 ) -> Result<Solved, HalfspaceError> {
-    let tangent = sys.tangent(&state, h0)?;
-    let point = CurvePoint {
-        central_gap: h0,
-        approach: state.approach,
-        load: sys.load(&state),
-        contact_radius: sys.contact_radius(&state),
-        slope_approach: tangent.approach,
-        slope_load: tangent.load,
+    let t = &from.tangent;
+    let guess = guess.unwrap_or_else(|| State {
+        gaps: from
+            .state
+            .gaps
+            .iter()
+            .zip(&t.gaps)
+            .map(|(g, t)| g + length * t)
+            .collect(),
+        approach: from.state.approach + length * t.approach,
+    });
+    let direction = t.vector();
+    let control = Control::Arc {
+        direction: direction.clone(),
+        origin: from.vector(),
+        length,
     };
-    Ok(Solved {
-        h0,
-        state,
-        tangent,
-        point,
-    })
+    correct(sys, &control, guess, &direction, params, cost)
 }
 
-/// One continuation step of at most `step` in H(0) in `direction` (±1) from `from`, limited so
-/// that the predicted change of every gap stays below `max_gap_change`, halved on failure down
-/// to `min_step`. Returns the new point and the step used.
+/// One continuation step from `from` along its tangent: the predicted change of every gap at
+/// most `gap_step` and of H(0) at most `max_step`, halved on failure down to `min_step`.
+/// Returns the new point and the gap step used.
 pub(crate) fn step_from<T: Traction>(
     sys: &System<'_, T>,
     from: &Solved,
-    direction: f64,
-    step: f64,
+    gap_step: f64,
     params: &HalfspaceParams,
     cost: &mut Cost,
 ) -> Result<(Solved, f64), HalfspaceError> {
-    let largest = from.tangent.gaps.iter().fold(0.0f64, |m, t| m.max(t.abs()));
-    let mut dh = step.min(params.max_gap_change / largest.max(f64::MIN_POSITIVE));
+    let t = &from.tangent;
+    let largest = t.gaps.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+    let mut step = gap_step;
     loop {
-        let h = from.h0 + direction * dh;
-        // prescribe whichever of H(0) and D moves faster along the path: H(0) is regular
-        // through the turning points of D, D is better conditioned on the contact branch,
-        // where H(0) hardly moves
-        let control = if from.tangent.approach.abs() > 1.0 {
-            Control::Approach(from.state.approach + from.tangent.approach * (h - from.h0))
-        } else {
-            Control::CentralGap(h)
-        };
-        match solve_from(sys, from, control, params, cost) {
-            Ok(s) => return Ok((s, dh)),
+        let length = (step / largest.max(f64::MIN_POSITIVE))
+            .min(params.max_step / t.gaps[0].abs().max(f64::MIN_POSITIVE));
+        match arc_from(sys, from, length, None, params, cost) {
+            Ok(s) => return Ok((s, step)),
             Err(HalfspaceError::NoConvergence {
                 residual,
                 iterations,
                 ..
             }) => {
-                dh *= 0.5;
-                if dh < params.min_step {
+                step *= 0.5;
+                if step < params.min_step {
                     return Err(HalfspaceError::NoConvergence {
-                        central_gap: h,
+                        central_gap: from.state.gaps[0],
                         residual,
                         iterations,
-                        step: dh,
+                        step,
                     });
                 }
             }
@@ -175,49 +228,29 @@ pub(crate) fn step_from<T: Traction>(
     }
 }
 
-/// Which slope vanishes at the point sought, and along which path parameter it is sought.
+/// Which slope vanishes at the point sought.
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Slope {
-    /// dD/dH(0) against H(0): jump points
+    /// dD/ds: jump points
     Approach,
-    /// dF̄/dH(0) against H(0): pull-off on the trace
+    /// dF̄/ds: pull-off
     Load,
-    /// dF̄/dD against D: pull-off on a stable branch (well scaled where H(0) barely moves)
-    LoadPerApproach,
 }
 
 impl Slope {
-    fn of(self, p: &CurvePoint) -> f64 {
-        match self {
-            Slope::Approach => p.slope_approach,
-            Slope::Load => p.slope_load,
-            Slope::LoadPerApproach => p.slope_load / p.slope_approach,
-        }
-    }
-
     /// The slope at a solved point.
     pub(crate) fn value(self, s: &Solved) -> f64 {
-        self.of(&s.point)
-    }
-
-    /// The abscissa of the search.
-    fn abscissa(self, s: &Solved) -> f64 {
         match self {
-            Slope::LoadPerApproach => s.state.approach,
-            _ => s.h0,
-        }
-    }
-
-    fn control(self, x: f64) -> Control {
-        match self {
-            Slope::LoadPerApproach => Control::Approach(x),
-            _ => Control::CentralGap(x),
+            Slope::Approach => s.point.slope_approach,
+            Slope::Load => s.point.slope_load,
         }
     }
 }
 
-/// Locate the zero of a slope between two solved points where it changes sign (Illinois;
-/// bisection when Newton cannot reach the secant point; the better end if neither works).
+/// Locate the zero of a slope between two solved points of one step (`b` after `a` along the
+/// tangent of `a`) where it changes sign: Illinois on the arclength σ = τ_a·(x − x_a), each
+/// evaluation a pseudo-arclength solve from `a` with the chord as predictor; bisection when
+/// Newton cannot reach the secant point; the better end if neither works.
 pub(crate) fn locate<T: Traction>(
     sys: &System<'_, T>,
     a: &Solved,
@@ -226,27 +259,35 @@ pub(crate) fn locate<T: Traction>(
     params: &HalfspaceParams,
     cost: &mut Cost,
 ) -> Result<Solved, HalfspaceError> {
-    let (mut a, mut b) = (a.clone(), b.clone());
-    let (mut fa, mut fb) = (slope.of(&a.point), slope.of(&b.point));
-    let mut side = 0i8;
     const MAX_SECANT_STEPS: usize = 60;
+    let (xa, xb) = (a.vector(), b.vector());
+    let chord = |sigma_b: f64, sigma: f64| {
+        let f = sigma / sigma_b;
+        let n = xa.len() - 1;
+        State {
+            gaps: (0..n).map(|i| xa[i] + f * (xb[i] - xa[i])).collect(),
+            approach: xa[n] + f * (xb[n] - xa[n]),
+        }
+    };
+    let ta = a.tangent.vector();
+    let sigma_b: f64 = ta
+        .iter()
+        .zip(xb.iter().zip(&xa))
+        .map(|(t, (b, a))| t * (b - a))
+        .sum();
+    let (mut lo, mut hi) = ((0.0, a.clone()), (sigma_b, b.clone()));
+    let (mut flo, mut fhi) = (slope.value(&lo.1), slope.value(&hi.1));
+    let mut side = 0i8;
     for _ in 0..MAX_SECANT_STEPS {
-        let (xa, xb) = (slope.abscissa(&a), slope.abscissa(&b));
-        if (xa - xb).abs() < params.locate_tolerance * xa.abs().max(1.0) {
+        if (hi.0 - lo.0).abs() < params.locate_tolerance * sigma_b.abs().max(1.0) {
             break;
         }
-        // the secant point, or the midpoint if Newton cannot reach it
-        let secant = (xa * fb - xb * fa) / (fb - fa);
+        let secant = (lo.0 * fhi - hi.0 * flo) / (fhi - flo);
         let mut attempt = None;
-        for x in [secant, 0.5 * (xa + xb)] {
-            let from = if (x - xa).abs() < (x - xb).abs() {
-                &a
-            } else {
-                &b
-            };
-            match solve_from(sys, from, slope.control(x), params, cost) {
+        for sigma in [secant, 0.5 * (lo.0 + hi.0)] {
+            match arc_from(sys, a, sigma, Some(chord(sigma_b, sigma)), params, cost) {
                 Ok(c) => {
-                    attempt = Some(c);
+                    attempt = Some((sigma, c));
                     break;
                 }
                 Err(HalfspaceError::NoConvergence { .. }) => continue,
@@ -254,30 +295,30 @@ pub(crate) fn locate<T: Traction>(
             }
         }
         let Some(c) = attempt else { break };
-        let fc = slope.of(&c.point);
+        let fc = slope.value(&c.1);
         if fc == 0.0 {
-            return Ok(c);
+            return Ok(c.1);
         }
-        if (fc > 0.0) == (fa > 0.0) {
-            a = c;
-            fa = fc;
+        if (fc > 0.0) == (flo > 0.0) {
+            lo = c;
+            flo = fc;
             if side == -1 {
-                fb *= 0.5;
+                fhi *= 0.5;
             }
             side = -1;
         } else {
-            b = c;
-            fb = fc;
+            hi = c;
+            fhi = fc;
             if side == 1 {
-                fa *= 0.5;
+                flo *= 0.5;
             }
             side = 1;
         }
     }
-    Ok(if slope.of(&a.point).abs() < slope.of(&b.point).abs() {
-        a
+    Ok(if slope.value(&lo.1).abs() < slope.value(&hi.1).abs() {
+        lo.1
     } else {
-        b
+        hi.1
     })
 }
 
@@ -289,72 +330,194 @@ pub(crate) fn start_gap(mu: f64, params: &HalfspaceParams) -> f64 {
         .unwrap_or_else(|| 3.0 + 3.0 * mu.powf(3.0 / 7.0))
 }
 
-/// A traced curve on one grid, with the states of its special points.
-pub(crate) struct Trace {
+/// A bracketing step of a special point: the two ends and the system they live on.
+struct Bracket<'a, T: Traction> {
+    a: Solved,
+    b: Solved,
+    sys: Rc<System<'a, T>>,
+}
+
+impl<'a, T: Traction> Bracket<'a, T> {
+    fn locate(
+        &self,
+        slope: Slope,
+        params: &HalfspaceParams,
+        cost: &mut Cost,
+    ) -> Result<(Solved, Rc<System<'a, T>>), HalfspaceError> {
+        let s = locate(&self.sys, &self.a, &self.b, slope, params, cost)?;
+        Ok((s, Rc::clone(&self.sys)))
+    }
+}
+
+/// A traced curve with the states of its special points.
+pub(crate) struct Trace<'a, T: Traction> {
     pub(crate) points: Vec<CurvePoint>,
     pub(crate) jump_in: Option<Solved>,
     pub(crate) jump_out: Option<Solved>,
     pub(crate) pull_off: Solved,
+    /// the grid (and system) on which `pull_off` was solved
+    pub(crate) pull_off_system: Rc<System<'a, T>>,
+    /// times the grid was rebuilt around the moving contact edge
+    pub(crate) remeshes: usize,
 }
 
-/// Trace the S-curve on `sys` from beyond jump-in until the load passes its minimum and
-/// reaches `end_load`.
-pub(crate) fn trace_on<T: Traction>(
+/// The edge may come this close (as a fraction of the window width `window_zones` ℓ, 4ℓ for the
+/// default 16ℓ) to an end of the uniform zone before the grid is rebuilt around it: the gap opens
+/// over a few ℓ ahead of the edge, and the pressure has its crack-tip peak a few ℓ behind it.
+const REMESH_MARGIN: f64 = 0.25;
+
+/// The uniform zone must also cover every radius where the gap is below this (z₀). A graded
+/// ring of width s at gap H is unstable on its own (the diagonal 1 − A_ii k̄(H) of the Jacobian
+/// turns negative, a discrete jump of one ring) once its self-compliance A_ii ∝ μ^{3/2}s times the
+/// law's stiffness k̄ exceeds 1; beyond H = 3 the LJ stiffness is below 0.1 γ/z₀² (9-3: 0.098),
+/// about a fifth of its value at H = 2, so graded cells are safe there.
+pub(crate) const NEAR_GAP: f64 = 3.0;
+
+/// Outermost node radius where the gap is below [`NEAR_GAP`] (0 if none).
+pub(crate) fn near_reach<T: Traction>(sys: &System<'_, T>, state: &State) -> f64 {
+    sys.grid
+        .nodes
+        .iter()
+        .zip(&state.gaps)
+        .filter(|(_, &h)| h < NEAR_GAP)
+        .map(|(&r, _)| r)
+        .fold(0.0, f64::max)
+}
+
+/// True if the contact edge `a` is still `margin` inside the uniform zone of `spec`, and the
+/// reach `near` of small gaps is inside it.
+fn edge_inside(spec: &GridSpec, a: f64, near: f64, margin: f64) -> bool {
+    a <= spec.zone_hi - margin
+        && (spec.zone_lo <= 0.0 || a >= spec.zone_lo + margin)
+        && near <= spec.zone_hi
+}
+
+/// Move a converged point onto `sys` (a rebuilt grid): transfer the gaps and the tangent and
+/// re-solve at the same D, or at the same H(0) where D moves slower than H(0) along the path.
+pub(crate) fn remesh<T: Traction>(
     sys: &System<'_, T>,
-    mu: f64,
+    old: &Grid,
+    from: &Solved,
     params: &HalfspaceParams,
     cost: &mut Cost,
-) -> Result<Trace, HalfspaceError> {
+) -> Result<Solved, HalfspaceError> {
+    let guess = sys.transfer(old, &from.state);
+    // the old tangent on the new nodes (constant beyond the old domain: a rigid shift there)
+    let mut orientation: Vec<f64> = sys
+        .grid
+        .nodes
+        .iter()
+        .map(|&r| old.interpolate(&from.tangent.gaps, r))
+        .collect();
+    orientation.push(from.tangent.approach);
+    // D first where it moves faster than H(0) along the path (on the contact branch), then H(0)
+    let by_approach = Control::Approach(from.state.approach);
+    let by_gap = Control::CentralGap(from.state.gaps[0]);
+    let controls = if from.tangent.approach.abs() > from.tangent.gaps[0].abs() {
+        [by_approach, by_gap]
+    } else {
+        [by_gap, by_approach]
+    };
+    let mut failure = None;
+    for control in &controls {
+        match correct(sys, control, guess.clone(), &orientation, params, cost) {
+            Ok(s) => return Ok(s),
+            Err(e @ HalfspaceError::NoConvergence { .. }) => failure = Some(e),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(failure.expect("two controls tried"))
+}
+
+/// Trace the S-curve from beyond jump-in until the load passes its minimum and reaches
+/// `end_load`. The grid is `window(a, r)` for the current contact radius a and reach r of small
+/// gaps ([`near_reach`] plus the remesh margin), rebuilt whenever the edge nears an end of its
+/// uniform zone or the small gaps reach beyond it (a `window` that ignores its arguments gives
+/// one fixed grid).
+pub(crate) fn trace_on<'a, T: Traction>(
+    problem: &'a Problem<T>,
+    window: &dyn Fn(f64, f64) -> GridSpec,
+    params: &HalfspaceParams,
+    cost: &mut Cost,
+) -> Result<Trace<'a, T>, HalfspaceError> {
+    let mu = problem.tabor();
+    let mut spec = window(0.0, 0.0);
+    let mut sys = Rc::new(System::new(problem, spec.build()));
+    cost.max_nodes = cost.max_nodes.max(sys.len());
     let h_start = start_gap(mu, params);
     let (state, iterations) =
-        sys.solve(Control::CentralGap(h_start), sys.rigid(h_start), params)?;
+        sys.solve(&Control::CentralGap(h_start), sys.rigid(h_start), params)?;
     cost.newton_iterations += iterations;
     cost.solves += 1;
-    let mut prev = finish(sys, h_start, state)?;
+    // the trace starts towards smaller central gaps
+    let inwards: Vec<f64> = (0..=sys.len())
+        .map(|i| -f64::from(u8::from(i == 0)))
+        .collect();
+    let mut prev = finish(&sys, state, &inwards)?;
     let mut points = vec![prev.point];
-    let mut step = params.max_step;
-    let mut jump_in: Option<Solved> = None;
-    let mut jump_out: Option<Solved> = None;
-    let mut pull_off: Option<Solved> = None;
+    let mut step = params.max_gap_change;
+    let mut jump_in: Option<(Solved, Rc<System<'a, T>>)> = None;
+    let mut jump_out: Option<Bracket<'a, T>> = None;
+    let mut pull_off: Option<Bracket<'a, T>> = None;
+    let mut remeshes = 0;
     loop {
-        let (next, used) = step_from(sys, &prev, -1.0, step, params, cost)?;
-        step = used;
-        // turning points of D: − → + is jump-in (D maximum), + → − after it is jump-out
-        let (sa0, sa1) = (prev.point.slope_approach, next.point.slope_approach);
-        if sa0 < 0.0 && sa1 >= 0.0 && jump_in.is_none() {
-            jump_in = Some(locate(sys, &prev, &next, Slope::Approach, params, cost)?);
-        } else if sa0 > 0.0 && sa1 <= 0.0 && jump_in.is_some() && jump_out.is_none() {
-            jump_out = Some(locate(sys, &prev, &next, Slope::Approach, params, cost)?);
-        }
-        // load minimum: dF̄/dH(0) goes from + to −
-        if prev.point.slope_load > 0.0 && next.point.slope_load <= 0.0 {
-            let m = locate(sys, &prev, &next, Slope::Load, params, cost)?;
-            if pull_off
-                .as_ref()
-                .is_none_or(|p| m.point.load < p.point.load)
-            {
-                pull_off = Some(m);
+        let a = prev.point.contact_radius;
+        let near = near_reach(&sys, &prev.state);
+        let margin =
+            REMESH_MARGIN * params.window_zones * spec.fine_spacing * params.cells_per_zone;
+        if !edge_inside(&spec, a, near, margin) {
+            let new_spec = window(a, near + margin);
+            if new_spec != spec {
+                let new_sys = Rc::new(System::new(problem, new_spec.build()));
+                cost.max_nodes = cost.max_nodes.max(new_sys.len());
+                prev = remesh(&new_sys, &sys.grid, &prev, params, cost)?;
+                (spec, sys) = (new_spec, new_sys);
+                remeshes += 1;
             }
+        }
+        let (next, used) = step_from(&sys, &prev, step, params, cost)?;
+        step = used;
+        let bracket = || Bracket {
+            a: prev.clone(),
+            b: next.clone(),
+            sys: Rc::clone(&sys),
+        };
+        let (sa0, sa1) = (prev.point.slope_approach, next.point.slope_approach);
+        if sa0 > 0.0 && sa1 <= 0.0 && jump_in.is_none() {
+            jump_in = Some(bracket().locate(Slope::Approach, params, cost)?);
+        } else if sa0 < 0.0 && sa1 >= 0.0 && jump_in.is_some() {
+            jump_out = Some(bracket());
+        }
+        if prev.point.slope_load < 0.0 && next.point.slope_load >= 0.0 {
+            pull_off = Some(bracket());
         }
         points.push(next.point);
         prev = next;
         if pull_off.is_some() && prev.point.load >= params.end_load {
             break;
         }
-        if prev.h0 <= params.min_gap {
+        if prev.point.central_gap <= params.min_gap {
             break;
         }
-        step = (step * 1.5).min(params.max_step);
+        step = (step * 1.5).min(params.max_gap_change);
     }
-    let pull_off = pull_off.ok_or(HalfspaceError::NoPullOff {
-        start: h_start,
-        end: prev.h0,
-    })?;
+    let (pull_off, pull_off_system) = pull_off
+        .ok_or(HalfspaceError::NoPullOff {
+            start: h_start,
+            end: prev.point.central_gap,
+        })?
+        .locate(Slope::Load, params, cost)?;
+    let jump_out = match jump_out {
+        Some(b) => Some(b.locate(Slope::Approach, params, cost)?.0),
+        None => None,
+    };
     Ok(Trace {
         points,
-        jump_in,
+        jump_in: jump_in.map(|(s, _)| s),
         jump_out,
         pull_off,
+        pull_off_system,
+        remeshes,
     })
 }
 
@@ -365,25 +528,20 @@ pub fn trace_curve<T: Traction>(
     params: &HalfspaceParams,
 ) -> Result<Curve, HalfspaceError> {
     let start = Instant::now();
-    let mu = problem.tabor();
-    let sys = System::new(
-        problem,
-        super::refinement::trace_grid(problem, params).build(),
-    );
-    let mut cost = Cost {
-        max_nodes: sys.len(),
-        ..Cost::default()
-    };
-    let trace = trace_on(&sys, mu, params, &mut cost)?;
+    let mut cost = Cost::default();
+    let window = |a: f64, near: f64| super::refinement::trace_grid(problem, params, a, near);
+    let trace = trace_on(problem, &window, params, &mut cost)?;
     cost.wall_time = start.elapsed().as_secs_f64();
+    let sys = &trace.pull_off_system;
     Ok(Curve {
-        tabor: mu,
+        tabor: problem.tabor(),
         points: trace.points,
         jump_in: trace.jump_in.map(|s| s.point),
         jump_out: trace.jump_out.map(|s| s.point),
         tail_load: sys.tail_load(&trace.pull_off.state),
         pull_off: trace.pull_off.point,
         nodes: sys.len(),
+        remeshes: trace.remeshes,
         cost,
         scales: problem.scales(),
     })

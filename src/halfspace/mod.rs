@@ -184,6 +184,9 @@ pub struct HalfspaceParams {
     pub cells_per_zone: f64,
     /// growth of the spacing away from the fine zone, per unit distance
     pub growth: f64,
+    /// the uniform zone of the trace grid is at most this many process-zone widths ℓ wide and
+    /// moves with the contact edge (large μ); narrower zones cover the whole curve
+    pub window_zones: f64,
     /// the truncated attractive tail may carry at most this scaled load (rigid estimate)
     pub tail_tolerance: f64,
     /// central gap H(0) where tracing starts; `None`: 3 + 3μ^{3/7}, beyond jump-in
@@ -215,6 +218,7 @@ impl Default for HalfspaceParams {
         HalfspaceParams {
             cells_per_zone: 12.0,
             growth: 0.15,
+            window_zones: 16.0,
             tail_tolerance: 1e-5,
             start_gap: None,
             end_load: 0.0,

@@ -16,10 +16,12 @@
 //! |F₃ − F₂|/(r^p − 1); when the sequence is not monotone or p is outside [1/2, 4] the estimate
 //! falls back to |F₃ − F₂| (conservative). The tail estimate is added to the error.
 
-use super::curve::{finish, locate, solve_from, trace_on, Slope, Solved};
+use super::curve::CurvePoint;
+use super::curve::{locate, near_reach, remesh, step_from, trace_on, Slope, Solved};
 use super::grid::GridSpec;
-use super::solve::{Control, System};
+use super::solve::System;
 use super::{Cost, HalfspaceError, HalfspaceParams, Problem, Scales, Traction};
+use std::rc::Rc;
 use std::time::Instant;
 
 /// Process-zone width ℓ = min(1, μ^{−3/2}), scaled radial units.
@@ -39,15 +41,34 @@ fn outer_radius<T: Traction>(problem: &Problem<T>, mu: f64, params: &HalfspacePa
     (2.0 * (h_tail + approach)).sqrt()
 }
 
-/// The grid on which the whole curve is traced.
-pub fn trace_grid<T: Traction>(problem: &Problem<T>, params: &HalfspaceParams) -> GridSpec {
+/// The grid on which the curve is traced while the contact edge is near radius `edge`: uniform
+/// with `cells_per_zone` cells per ℓ over a zone that covers every radius the edge visits (up to
+/// 1.2 × the JKR radius at zero load, ρ₀ = (9π/2)^{1/3} μ^{1/2}, and at least 3) when that zone
+/// is at most `window_zones` ℓ wide (then `edge` and `near` are ignored); otherwise (large μ)
+/// over a window of that width from 40 % of it behind the edge to 60 % ahead (the edge grows
+/// along the trace), extended out to `near` (where the gap is still small,
+/// [`super::curve::NEAR_GAP`]), graded towards the centre and outwards.
+pub fn trace_grid<T: Traction>(
+    problem: &Problem<T>,
+    params: &HalfspaceParams,
+    edge: f64,
+    near: f64,
+) -> GridSpec {
     let mu = problem.tabor();
     let ell = process_zone(mu);
     let outer = outer_radius(problem, mu, params);
+    let swept = 3.0f64.max(1.2 * (4.5 * std::f64::consts::PI).cbrt() * mu.sqrt());
+    let window = params.window_zones * ell;
+    let (zone_lo, zone_hi) = if swept <= window {
+        (0.0, swept)
+    } else {
+        let lo = (edge - 0.4 * window).max(0.0);
+        (lo, (lo + window).max(near))
+    };
     GridSpec {
         fine_spacing: ell / params.cells_per_zone,
-        zone_lo: 0.0,
-        zone_hi: 3.0f64.max(1.2 * (4.5 * std::f64::consts::PI).cbrt() * mu.sqrt()),
+        zone_lo,
+        zone_hi,
         growth: params.growth,
         outer,
     }
@@ -85,6 +106,11 @@ pub struct PullOff {
     pub central_gap: f64,
     /// contact radius at pull-off, √(Rz₀)
     pub contact_radius: f64,
+    /// jump-in on approach under displacement control, from the trace (trace grid, no error
+    /// estimate); `None` without an S-curve
+    pub jump_in: Option<CurvePoint>,
+    /// jump-out on retraction under displacement control, from the trace
+    pub jump_out: Option<CurvePoint>,
     /// rigid estimate of the scaled load of the truncated tail
     pub tail_load: f64,
     /// total cost (trace + every level)
@@ -100,20 +126,31 @@ impl PullOff {
     }
 }
 
-/// The pull-off grid: uniform out to the contact radius at pull-off plus 2ℓ + 10 %.
-fn pull_off_grid(mu: f64, contact_radius: f64, outer: f64, params: &HalfspaceParams) -> GridSpec {
+/// The pull-off grid: uniform over the contact edge at pull-off ± (2ℓ + 2 % of the contact
+/// radius) and out to `near` (where the gap is still small), graded towards the centre and
+/// outwards.
+fn pull_off_grid(
+    mu: f64,
+    contact_radius: f64,
+    near: f64,
+    outer: f64,
+    params: &HalfspaceParams,
+) -> GridSpec {
     let ell = process_zone(mu);
-    let half_width = 2.0 * ell + 0.1 * contact_radius;
+    let half_width = 2.0 * ell + 0.02 * contact_radius;
     GridSpec {
         fine_spacing: ell / params.cells_per_zone,
-        zone_lo: 0.0,
-        zone_hi: contact_radius + half_width,
+        zone_lo: (contact_radius - half_width).max(0.0),
+        zone_hi: (contact_radius + half_width).max(near),
         growth: params.growth,
         outer,
     }
 }
 
-/// Re-solve the pull-off on `spec`, starting from a converged pull-off on another grid.
+/// Re-solve the pull-off on `spec`, starting from a converged pull-off on another grid: the
+/// transferred state is re-solved at the same approach, then the path is followed (pseudo-
+/// arclength) in the direction of decreasing load until dF̄/ds changes sign, and the minimum is
+/// located in that step.
 fn pull_off_on<'a, T: Traction>(
     problem: &'a Problem<T>,
     from_sys: &System<'_, T>,
@@ -124,46 +161,27 @@ fn pull_off_on<'a, T: Traction>(
 ) -> Result<(System<'a, T>, Solved), HalfspaceError> {
     let sys = System::new(problem, spec.build());
     cost.max_nodes = cost.max_nodes.max(sys.len());
-    let guess = sys.transfer(from_sys, &from.state);
-    let (state, iterations) = sys.solve(Control::Approach(from.state.approach), guess, params)?;
-    cost.newton_iterations += iterations;
-    cost.solves += 1;
-    let centre = finish(&sys, state.gaps[0], state)?;
-    // bracket the zero of dF̄/dH(0) on this grid by stepping away from the old location
-    // walk in the approach D (the pull-off lies on the stable branch, where D is a regular
-    // parameter) until dF̄/dD changes sign; steps keep the predicted gap change small
-    let per_d = |s: &Solved| {
-        s.tangent.gaps.iter().fold(0.0f64, |m, t| m.max(t.abs())) / s.tangent.approach.abs()
-    };
-    let sign = if Slope::LoadPerApproach.value(&centre) > 0.0 {
-        -1.0
+    let centre = remesh(&sys, &from_sys.grid, from, params, cost)?;
+    // walk downhill in load
+    let mut near = if centre.point.slope_load > 0.0 {
+        centre.reversed()
     } else {
-        1.0
+        centre
     };
-    let mut near = centre;
     const MAX_BRACKET_STEPS: usize = 40;
-    let mut step = 0.1 * params.max_gap_change / per_d(&near).max(f64::MIN_POSITIVE);
+    let mut step = 0.1 * params.max_gap_change;
     for _ in 0..MAX_BRACKET_STEPS {
-        let d = near.state.approach + sign * step;
-        let far = match solve_from(&sys, &near, Control::Approach(d), params, cost) {
-            Ok(far) => far,
-            Err(HalfspaceError::NoConvergence { .. }) if step > params.min_step => {
-                step *= 0.5;
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
-        if (Slope::LoadPerApproach.value(&far) > 0.0) != (Slope::LoadPerApproach.value(&near) > 0.0)
-        {
-            let m = locate(&sys, &near, &far, Slope::LoadPerApproach, params, cost)?;
+        let (far, used) = step_from(&sys, &near, step, params, cost)?;
+        if far.point.slope_load >= 0.0 {
+            let m = locate(&sys, &near, &far, Slope::Load, params, cost)?;
             return Ok((sys, m));
         }
         near = far;
-        step = (2.0 * step).min(params.max_gap_change / per_d(&near).max(f64::MIN_POSITIVE));
+        step = (2.0 * used).min(params.max_gap_change);
     }
     Err(HalfspaceError::NoPullOff {
-        start: from.h0,
-        end: near.h0,
+        start: from.point.central_gap,
+        end: near.point.central_gap,
     })
 }
 
@@ -174,33 +192,33 @@ pub fn pull_off<T: Traction>(
 ) -> Result<PullOff, HalfspaceError> {
     let start = Instant::now();
     let mu = problem.tabor();
-    let trace_spec = trace_grid(problem, params);
-    let trace_sys = System::new(problem, trace_spec.build());
-    let mut cost = Cost {
-        max_nodes: trace_sys.len(),
-        ..Cost::default()
-    };
-    let trace = trace_on(&trace_sys, mu, params, &mut cost)?;
+    let mut cost = Cost::default();
+    let window = |a: f64, near: f64| trace_grid(problem, params, a, near);
+    let trace = trace_on(problem, &window, params, &mut cost)?;
     let base = pull_off_grid(
         mu,
         trace.pull_off.point.contact_radius,
-        trace_spec.outer,
+        near_reach(&trace.pull_off_system, &trace.pull_off.state),
+        window(0.0, 0.0).outer,
         params,
     );
     let mut levels = Vec::new();
-    let (mut sys, mut solved) = (trace_sys, trace.pull_off);
+    let (jump_in, jump_out) = (
+        trace.jump_in.map(|s| s.point),
+        trace.jump_out.map(|s| s.point),
+    );
+    let (mut sys, mut solved) = (trace.pull_off_system, trace.pull_off);
     for level in 0..3 {
         let t0 = Instant::now();
         let spec = base.refined(params.refinement_ratio.powi(level));
         let (s, m) = match pull_off_on(problem, &sys, &solved, &spec, params, &mut cost) {
-            Ok(found) => found,
+            Ok((s, m)) => (Rc::new(s), m),
             // the local search can lose the minimum where the slope dF̄/dD is rough on a grid
             // (the edge crossing cells): trace the whole curve on this grid instead
             Err(_) => {
-                let s = System::new(problem, spec.build());
-                cost.max_nodes = cost.max_nodes.max(s.len());
-                let m = trace_on(&s, mu, params, &mut cost)?.pull_off;
-                (s, m)
+                let fixed = |_: f64, _: f64| spec;
+                let t = trace_on(problem, &fixed, params, &mut cost)?;
+                (t.pull_off_system, t.pull_off)
             }
         };
         levels.push(RefinementLevel {
@@ -235,8 +253,10 @@ pub fn pull_off<T: Traction>(
         observed_order: order,
         levels,
         approach: solved.state.approach,
-        central_gap: solved.h0,
+        central_gap: solved.point.central_gap,
         contact_radius: solved.point.contact_radius,
+        jump_in,
+        jump_out,
         tail_load,
         cost,
         scales: problem.scales(),

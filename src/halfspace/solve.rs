@@ -36,24 +36,53 @@ pub struct State {
     pub approach: f64,
 }
 
-/// The slope of the solution path with respect to the central gap H(0).
+/// The unit tangent of the solution path in (H₀ … H_{N−1}, D) space, d/ds along the
+/// (Euclidean) arclength s, and the load slope it implies.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tangent {
-    /// dH_i/dH(0)
+    /// dH_i/ds
     pub gaps: Vec<f64>,
-    /// dD/dH(0)
+    /// dD/ds
     pub approach: f64,
-    /// dF̄/dH(0)
+    /// dF̄/ds = Σ_j w_j k̄_j dH_j/ds
     pub load: f64,
 }
 
+impl Tangent {
+    /// The tangent as one vector (gaps, then D).
+    pub fn vector(&self) -> Vec<f64> {
+        let mut v = self.gaps.clone();
+        v.push(self.approach);
+        v
+    }
+
+    /// The same tangent pointing the other way.
+    pub fn reversed(&self) -> Tangent {
+        Tangent {
+            gaps: self.gaps.iter().map(|t| -t).collect(),
+            approach: -self.approach,
+            load: -self.load,
+        }
+    }
+}
+
 /// What the last (bordering) equation prescribes.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Control {
     /// the central gap H(0), z₀
     CentralGap(f64),
     /// the approach D, z₀
     Approach(f64),
+    /// pseudo-arclength (Keller): direction · (x − origin) = length, x = (gaps, D); regular
+    /// through turning points of every component, including folds of H(0)
+    Arc {
+        /// unit tangent at the origin
+        direction: Vec<f64>,
+        /// the previous solution (gaps, D)
+        origin: Vec<f64>,
+        /// step along the direction
+        length: f64,
+    },
 }
 
 /// The discretised problem on one grid: influence matrix, load weights and the law.
@@ -111,7 +140,7 @@ impl<'a, T: Traction> System<'a, T> {
     }
 
     /// The residual vector (length N + 1) at `state` under `control`.
-    pub fn residual(&self, state: &State, control: Control) -> Vec<f64> {
+    pub fn residual(&self, state: &State, control: &Control) -> Vec<f64> {
         let (p, _) = self.law(&state.gaps);
         let u = self.displacement(&p);
         let mut r: Vec<f64> = (0..self.len())
@@ -123,21 +152,34 @@ impl<'a, T: Traction> System<'a, T> {
         r.push(match control {
             Control::CentralGap(h0) => state.gaps[0] - h0,
             Control::Approach(d) => state.approach - d,
+            Control::Arc {
+                direction,
+                origin,
+                length,
+            } => {
+                let x = state.gaps.iter().chain(std::iter::once(&state.approach));
+                x.zip(origin)
+                    .zip(direction)
+                    .map(|((x, o), t)| (x - o) * t)
+                    .sum::<f64>()
+                    - length
+            }
         });
         r
     }
 
     /// The exact Jacobian of [`Self::residual`], (N+1)×(N+1).
-    pub fn jacobian(&self, state: &State, control: Control) -> Mat<f64> {
+    pub fn jacobian(&self, state: &State, control: &Control) -> Mat<f64> {
         let n = self.len();
         let (_, k) = self.law(&state.gaps);
-        let last = match control {
-            Control::CentralGap(_) => 0,
-            Control::Approach(_) => n,
+        let last_row = |j: usize| match control {
+            Control::CentralGap(_) => f64::from(u8::from(j == 0)),
+            Control::Approach(_) => f64::from(u8::from(j == n)),
+            Control::Arc { direction, .. } => direction[j],
         };
         Mat::from_fn(n + 1, n + 1, |i, j| {
             if i == n {
-                f64::from(u8::from(j == last))
+                last_row(j)
             } else if j == n {
                 1.0
             } else {
@@ -146,17 +188,30 @@ impl<'a, T: Traction> System<'a, T> {
         })
     }
 
-    /// The path tangent at a converged state.
-    pub fn tangent(&self, state: &State, h0: f64) -> Result<Tangent, HalfspaceError> {
+    /// The unit path tangent at a converged state, oriented so that its product with
+    /// `orientation` (a vector in (gaps, D) space, e.g. the previous tangent) is positive: the
+    /// null vector of the N×(N+1) equilibrium Jacobian, from the bordered system with
+    /// `orientation` as the last row (LU with partial pivoting; the bordered matrix is
+    /// indefinite).
+    pub fn tangent(&self, state: &State, orientation: &[f64]) -> Result<Tangent, HalfspaceError> {
         let n = self.len();
-        let lu = self
-            .jacobian(state, Control::CentralGap(h0))
-            .partial_piv_lu();
+        let control = Control::Arc {
+            direction: orientation.to_vec(),
+            origin: vec![0.0; n + 1],
+            length: 0.0,
+        };
+        let lu = self.jacobian(state, &control).partial_piv_lu();
         let mut rhs = Mat::from_fn(n + 1, 1, |i, _| f64::from(u8::from(i == n)));
         lu.solve_in_place(&mut rhs);
-        let t: Vec<f64> = (0..=n).map(|i| rhs[(i, 0)]).collect();
+        let norm = (0..=n)
+            .map(|i| rhs[(i, 0)] * rhs[(i, 0)])
+            .sum::<f64>()
+            .sqrt();
+        let t: Vec<f64> = (0..=n).map(|i| rhs[(i, 0)] / norm).collect();
         if t.iter().any(|v| !v.is_finite()) {
-            return Err(HalfspaceError::NonFinite { central_gap: h0 });
+            return Err(HalfspaceError::NonFinite {
+                central_gap: state.gaps[0],
+            });
         }
         let (_, k) = self.law(&state.gaps);
         let load = (0..n).map(|j| self.weights[j] * k[j] * t[j]).sum();
@@ -171,7 +226,7 @@ impl<'a, T: Traction> System<'a, T> {
     /// of iterations; `Err` (with the last residual) if it does not converge.
     pub fn solve(
         &self,
-        control: Control,
+        control: &Control,
         guess: State,
         params: &HalfspaceParams,
     ) -> Result<(State, usize), HalfspaceError> {
@@ -179,8 +234,8 @@ impl<'a, T: Traction> System<'a, T> {
         let mut state = guess;
         let mut norm = f64::INFINITY;
         let h0 = match control {
-            Control::CentralGap(h0) => h0,
-            Control::Approach(_) => state.gaps[0],
+            Control::CentralGap(h0) => *h0,
+            _ => state.gaps[0],
         };
         for iteration in 0..=params.max_iterations {
             let r = self.residual(&state, control);
@@ -255,23 +310,23 @@ impl<'a, T: Traction> System<'a, T> {
         2.0 * self.problem.scaled_tail_energy(h_edge)
     }
 
-    /// A starting state on this grid from a converged state on `other`: the gaps interpolated
-    /// linearly (continued with the rigid profile beyond the old domain), the same approach.
-    pub fn transfer(&self, other: &System<'_, T>, state: &State) -> State {
-        let last = *other.grid.nodes.last().unwrap_or(&0.0);
-        let g_last = state.gaps[state.gaps.len() - 1];
+    /// A starting state on this grid from a converged state on grid `other`: the gaps less the
+    /// sphere profile, H − ρ²/2 = U − D (smooth), interpolated linearly (constant beyond the old
+    /// domain), and the same approach. Interpolating H itself would add the chord error of the
+    /// parabola, Δρ²/8, which is large on the graded outer cells.
+    pub fn transfer(&self, other: &Grid, state: &State) -> State {
+        let elastic: Vec<f64> = other
+            .nodes
+            .iter()
+            .zip(&state.gaps)
+            .map(|(r, h)| h - 0.5 * r * r)
+            .collect();
         State {
             gaps: self
                 .grid
                 .nodes
                 .iter()
-                .map(|&r| {
-                    if r <= last {
-                        other.grid.interpolate(&state.gaps, r)
-                    } else {
-                        g_last + 0.5 * (r * r - last * last)
-                    }
-                })
+                .map(|&r| other.interpolate(&elastic, r) + 0.5 * r * r)
                 .collect(),
             approach: state.approach,
         }
@@ -310,56 +365,72 @@ mod tests {
             .iter_mut()
             .enumerate()
             .for_each(|(i, g)| *g += 0.05 * (i as f64).sin());
-        let j = sys.jacobian(&state, Control::CentralGap(0.9));
-        let e = 1e-6;
-        for col in [0, 3, n / 2, n] {
-            let mut plus = state.clone();
-            let mut minus = state.clone();
-            if col < n {
-                plus.gaps[col] += e;
-                minus.gaps[col] -= e;
-            } else {
-                plus.approach += e;
-                minus.approach -= e;
-            }
-            let rp = sys.residual(&plus, Control::CentralGap(0.9));
-            let rm = sys.residual(&minus, Control::CentralGap(0.9));
-            for row in 0..=n {
-                let fd = (rp[row] - rm[row]) / (2.0 * e);
-                let tol = FD_TOL * j[(row, col)].abs().max(1.0);
-                assert!(
-                    (fd - j[(row, col)]).abs() < tol,
-                    "({row},{col}) {fd} vs {}",
-                    j[(row, col)]
-                );
+        let arc = Control::Arc {
+            direction: (0..=n).map(|i| (0.3 * i as f64).cos()).collect(),
+            origin: (0..=n).map(|i| 0.01 * i as f64).collect(),
+            length: 0.2,
+        };
+        for control in [Control::CentralGap(0.9), Control::Approach(1.1), arc] {
+            let j = sys.jacobian(&state, &control);
+            let e = 1e-6;
+            for col in [0, 3, n / 2, n] {
+                let mut plus = state.clone();
+                let mut minus = state.clone();
+                if col < n {
+                    plus.gaps[col] += e;
+                    minus.gaps[col] -= e;
+                } else {
+                    plus.approach += e;
+                    minus.approach -= e;
+                }
+                let rp = sys.residual(&plus, &control);
+                let rm = sys.residual(&minus, &control);
+                for row in 0..=n {
+                    let fd = (rp[row] - rm[row]) / (2.0 * e);
+                    let tol = FD_TOL * j[(row, col)].abs().max(1.0);
+                    assert!(
+                        (fd - j[(row, col)]).abs() < tol,
+                        "({row},{col}) {fd} vs {}",
+                        j[(row, col)]
+                    );
+                }
             }
         }
     }
 
     #[test]
     fn newton_converges_and_tangent_matches_finite_differences() {
+        // the unit tangent against the normalised difference of two converged solutions at
+        // H(0) ± e, and dF̄/ds against the load difference over the same arclength
         let problem = Problem::scaled(1.0, LjKind::Lj93).unwrap();
         let sys = system(&problem);
+        let n = sys.len();
         let params = HalfspaceParams::default();
         let h0 = 1.3;
         let (s0, _) = sys
-            .solve(Control::CentralGap(h0), sys.rigid(h0), &params)
+            .solve(&Control::CentralGap(h0), sys.rigid(h0), &params)
             .unwrap();
-        let t = sys.tangent(&s0, h0).unwrap();
+        let towards_larger_h0: Vec<f64> = (0..=n).map(|i| f64::from(u8::from(i == 0))).collect();
+        let t = sys.tangent(&s0, &towards_larger_h0).unwrap();
         let e = 1e-5;
         let (sp, _) = sys
-            .solve(Control::CentralGap(h0 + e), s0.clone(), &params)
+            .solve(&Control::CentralGap(h0 + e), s0.clone(), &params)
             .unwrap();
         let (sm, _) = sys
-            .solve(Control::CentralGap(h0 - e), s0.clone(), &params)
+            .solve(&Control::CentralGap(h0 - e), s0.clone(), &params)
             .unwrap();
-        let dd = (sp.approach - sm.approach) / (2.0 * e);
-        let df = (sys.load(&sp) - sys.load(&sm)) / (2.0 * e);
-        assert!(
-            (dd - t.approach).abs() < 1e-5 * t.approach.abs().max(1.0),
-            "{dd} {}",
-            t.approach
-        );
+        let mut dx: Vec<f64> = sp.gaps.iter().zip(&sm.gaps).map(|(a, b)| a - b).collect();
+        dx.push(sp.approach - sm.approach);
+        let ds = dx.iter().map(|v| v * v).sum::<f64>().sqrt();
+        assert!(t.gaps[0] > 0.0, "orientation");
+        for (i, (fd, exact)) in dx.iter().zip(t.vector()).enumerate() {
+            assert!(
+                (fd / ds - exact).abs() < FD_TOL * 10.0,
+                "{i}: {} vs {exact}",
+                fd / ds
+            );
+        }
+        let df = (sys.load(&sp) - sys.load(&sm)) / ds;
         assert!(
             (df - t.load).abs() < 1e-5 * t.load.abs().max(1.0),
             "{df} {}",
