@@ -10,8 +10,12 @@
 //! radius asks for finer ones.
 
 use super::damping::ContactDamping;
+use super::element::Kinematics;
 use super::indenter::Indenter;
-use crate::laws::SurfaceLaw;
+use super::material::linear::LinearElastic;
+use super::material::Elastic;
+use super::{IndentParams, Segment};
+use crate::laws::{LennardJones, LjKind, SurfaceLaw};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -87,10 +91,55 @@ pub fn sizing_radius(
         .max(2.0 * (r * a.law.z0()).sqrt())
 }
 
+/// Damping of [`tabor_sphere`]: c₀ in GPa·s/nm at the drive rate of 1 nm/s (its dissipation is
+/// reported by every run; the tests hold it below 1 % of the strain energy).
+pub const TABOR_SPHERE_DAMPING: f64 = 1e-6;
+
+/// The validation problem in the half-space's terms: a rigid sphere of radius R = `r_over_z0`·z₀
+/// (z₀ = 1 nm) on a linear block with E\* = 1 GPa (ν = 0), γ set by Tabor's μ
+/// (γ = μ^(3/2) E\* √(z₀³/R)); approach from 6z₀ clear to δ = 1 nm and retract to 6z₀ clear at
+/// 1 nm/s, with contact damping out to a gap of 6z₀.
+pub fn tabor_sphere(mu: f64, r_over_z0: f64, kind: LjKind, kinematics: Kinematics) -> IndentParams {
+    let (z0, e_star) = (1.0, 1.0);
+    let r = r_over_z0 * z0;
+    let gamma = mu.powf(1.5) * e_star * (z0 * z0 * z0 / r).sqrt();
+    let mut p = IndentParams::hertz_example();
+    p.indenter = Indenter::Sphere { radius: r };
+    p.material.elastic = Elastic::Linear(LinearElastic {
+        youngs: e_star,
+        poisson: 0.0,
+    });
+    p.kinematics = kinematics;
+    p.start = -6.0 * z0;
+    p.schedule = vec![
+        Segment::Approach { to: z0, rate: 1.0 },
+        Segment::Unload {
+            to: -6.0 * z0,
+            rate: 1.0,
+        },
+    ];
+    p.adhesion = Some(AdhesionParams {
+        law: LennardJones::new(kind, gamma, z0).into(),
+        damping: Some(ContactDamping {
+            c0: TABOR_SPHERE_DAMPING,
+            gap: 6.0 * z0,
+            eta: 0.5,
+        }),
+    });
+    p.solver.increments = 140;
+    p
+}
+
+/// The normalised pull-off P/(πγR) of a run (None if it was not passed).
+pub fn normalised_pull_off(r: &super::IndentResult) -> Option<f64> {
+    let a = r.params.adhesion?;
+    let po = super::events::detect(&r.rows).pull_off?;
+    Some(po.load_nN / (PI * a.law.gamma() * r.params.indenter.radius()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::laws::{LennardJones, LjKind};
 
     #[test]
     fn jkr_radius_has_its_closed_form_limits() {

@@ -254,8 +254,7 @@ impl Contact<'_> {
             for s in 0..4 {
                 let (a, i) = (s / 2, s % 2);
                 let dphi_d = (-k * n[1] * n[i] - p * gp.hessian[1][i]) * nsh[a];
-                out.load_gradient[s] +=
-                    c * ((r * dl[s] + len * dr[s]) * phi_d + len * r * dphi_d);
+                out.load_gradient[s] += c * ((r * dl[s] + len * dr[s]) * phi_d + len * r * dphi_d);
                 out.force[s] += c * (r * phi * dl[s] + len * phi * dr[s] + len * r * dphi[s]);
                 for t in 0..4 {
                     out.stiffness[s][t] += c
@@ -392,7 +391,10 @@ mod tests {
         assert!((ls_fd - o.load_stiffness).abs() < FD_TOL * kmax, "∂P/∂δ");
         for t in 0..4 {
             let g_fd = (op.force[t] - om.force[t]) / (2.0 * h);
-            assert!((g_fd - o.load_gradient[t]).abs() < FD_TOL * kmax, "∂f/∂δ {t}");
+            assert!(
+                (g_fd - o.load_gradient[t]).abs() < FD_TOL * kmax,
+                "∂f/∂δ {t}"
+            );
         }
     }
 

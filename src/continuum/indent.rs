@@ -13,9 +13,9 @@
 use super::adhesion::{self, AdhesionParams};
 use super::assembly::{Assembler, AssemblyStats, Solid};
 use super::contact::{gauss_points, Contact, Damping, SmoothPenalty, SurfaceLaw};
-use super::machine::{Drive, Driven, Machine};
 use super::element::Kinematics;
 use super::indenter::Indenter;
+use super::machine::{Drive, Driven, Machine};
 use super::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use super::material::linear::LinearElastic;
 use super::material::viscoelastic::{validate_prony, PronyTerm, Viscoelastic};
@@ -357,9 +357,8 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     }
     let process_zone = p.adhesion.as_ref().map(|ad| ad.process_zone(e_star));
     let smallest = m.smallest.unwrap_or(
-        (a / m.elements_per_radius).min(process_zone.map_or(f64::INFINITY, |l| {
-            l / adhesion::ZONE_ELEMENTS
-        })),
+        (a / m.elements_per_radius)
+            .min(process_zone.map_or(f64::INFINITY, |l| l / adhesion::ZONE_ELEMENTS)),
     );
     let block = BlockSpec {
         width: m.width.unwrap_or(m.size_factor * a),
@@ -502,9 +501,9 @@ fn segment_span(seg: &Segment, machine: Machine, drive: f64, load: f64) -> (f64,
     let by_load = machine == Machine::Load && !matches!(seg, Segment::Approach { .. });
     let now = if by_load { load } else { drive };
     match *seg {
-        Segment::Load { to, rate } | Segment::Unload { to, rate } | Segment::Approach { to, rate } => {
-            (now, to, (to - now).abs() / rate, by_load)
-        }
+        Segment::Load { to, rate }
+        | Segment::Unload { to, rate }
+        | Segment::Approach { to, rate } => (now, to, (to - now).abs() / rate, by_load),
         Segment::Hold { time } => (now, now, time, by_load),
     }
 }
@@ -558,7 +557,12 @@ pub fn run_indent(
     };
     let mut asm = Assembler::new(&solid, Some(&contact))?;
     let a = resolved.expected_contact_radius_nm;
-    let force_floor = 1e-6 * resolved.reduced_modulus_GPa * a * a;
+    // the forces in play are at least the elastic scale at the contact and, with adhesion, the
+    // DMT pull-off 2πγR (the largest adhesive load): the residual tolerance is relative to them
+    let adhesive_force = p.adhesion.as_ref().map_or(0.0, |ad| {
+        2.0 * std::f64::consts::PI * ad.law.gamma() * p.indenter.radius()
+    });
+    let force_floor = (1e-6 * resolved.reduced_modulus_GPa * a * a).max(adhesive_force);
 
     let current = |solid: &Solid, u: &[f64]| -> Vec<[f64; 2]> {
         solid
@@ -578,7 +582,14 @@ pub fn run_indent(
         .iter()
         .map(|q| q.gap)
         .collect();
-    let ev0 = asm.evaluate(&solid, Some(&contact), (&u[..ndof], &[]), 0.0, p.start, false)?;
+    let ev0 = asm.evaluate(
+        &solid,
+        Some(&contact),
+        (&u[..ndof], &[]),
+        0.0,
+        p.start,
+        false,
+    )?;
     let mut result = IndentResult {
         params: p.clone(),
         resolved,

@@ -40,9 +40,11 @@ impl Machine {
     /// Check the spring stiffness.
     pub fn validate(&self) -> Result<(), String> {
         match *self {
-            Machine::Spring { stiffness } if !(stiffness > 0.0 && stiffness.is_finite()) => Err(
-                format!("machine spring stiffness must be positive and finite, got {stiffness} nN/nm"),
-            ),
+            Machine::Spring { stiffness } if !(stiffness > 0.0 && stiffness.is_finite()) => {
+                Err(format!(
+                    "machine spring stiffness must be positive and finite, got {stiffness} nN/nm"
+                ))
+            }
             _ => Ok(()),
         }
     }
