@@ -130,11 +130,15 @@ pub fn tabor_sphere(mu: f64, r_over_z0: f64, kind: LjKind, kinematics: Kinematic
     p
 }
 
-/// The normalised pull-off P/(πγR) of a run (None if it was not passed).
+/// The normalised pull-off P/(πγR) of a run: the passed load minimum, or under load control
+/// the load where the indenter separated (None if neither was reached).
 pub fn normalised_pull_off(r: &super::IndentResult) -> Option<f64> {
     let a = r.params.adhesion?;
-    let po = super::events::detect(&r.rows).pull_off?;
-    Some(po.load_nN / (PI * a.law.gamma() * r.params.indenter.radius()))
+    let p = match r.separated_nN {
+        Some(p) => p,
+        None => super::events::detect(&r.rows).pull_off?.load_nN,
+    };
+    Some(p / (PI * a.law.gamma() * r.params.indenter.radius()))
 }
 
 #[cfg(test)]

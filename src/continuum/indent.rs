@@ -7,8 +7,10 @@
 //! load is P = ∂Π/∂δ. Through a machine spring or under load control ([`super::machine`]) the
 //! schedule drives Δ or P̂ instead and δ is an unknown. With adhesion ([`super::adhesion`]) the
 //! schedule may start clear of the surface (`start` < 0) and the LJ law replaces the penalty;
-//! contact damping, if given, is integrated over each step and its dissipation is reported per
-//! row against the strain energy.
+//! contact damping, if given, is integrated over each step (except on load-controlled
+//! segments) and its dissipation is reported per row against the strain energy. Under load
+//! control an unloading segment that finds no equilibrium after every halving has reached the
+//! pull-off: the indenter separates there and the run ends ([`IndentResult::separated_nN`]).
 
 use super::adhesion::{self, AdhesionParams};
 use super::assembly::{Assembler, AssemblyStats, Solid};
@@ -453,6 +455,7 @@ pub struct RunStats {
 
 /// What a run produced.
 #[derive(Debug, Clone)]
+#[allow(non_snake_case)] // field names carry their units, as the output columns do
 pub struct IndentResult {
     /// the parameters
     pub params: IndentParams,
@@ -470,6 +473,10 @@ pub struct IndentResult {
     pub stats: RunStats,
     /// why the run stopped early, if it did
     pub failure: Option<String>,
+    /// under load control: the last converged load of an unloading segment beyond which no
+    /// equilibrium was found (the load-control pull-off, to within the last halved increment);
+    /// the indenter separates there and the rest of the schedule is skipped
+    pub separated_nN: Option<f64>,
 }
 
 /// Progress of a run, for the caller's display.
@@ -612,6 +619,7 @@ pub fn run_indent(
             ..RunStats::default()
         },
         failure: None,
+        separated_nN: None,
     };
     let mut last_dv = 0.0;
     let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
@@ -619,7 +627,7 @@ pub fn run_indent(
     let mut dissipated = 0.0;
     let base = 1.0 / p.solver.increments.max(1) as f64;
 
-    for (si, seg) in p.schedule.iter().enumerate() {
+    'schedule: for (si, seg) in p.schedule.iter().enumerate() {
         let (v0, target, duration, by_load) = segment_span(seg, p.machine, drive, load);
         let t0 = time;
         let mut value = v0;
@@ -644,7 +652,10 @@ pub fn run_indent(
             let step_contact = Contact {
                 segments: contact.segments.clone(),
                 quadrature: contact.quadrature.clone(),
-                damping: damping_law.map(|law| Damping {
+                // not on load-controlled segments: a damped step can hold a load beyond the
+                // static limit (the viscous force making up the difference), so the
+                // separation load would depend on c₀
+                damping: damping_law.filter(|_| !by_load).map(|law| Damping {
                     law,
                     previous: &gaps,
                     dt,
@@ -707,6 +718,17 @@ pub fn run_indent(
                     result.stats.cutbacks += 1;
                     step *= 0.5;
                     last_dv = 0.0;
+                    if cutbacks > p.solver.max_cutbacks && by_load && target < v0 {
+                        result.separated_nN = Some(value);
+                        result.snapshots.push(Snapshot {
+                            label: format!("segment{si}"),
+                            time_s: time,
+                            depth_nm: u[ndof],
+                            displacement: u[..ndof].to_vec(),
+                            stress: solid.stresses(&u[..ndof], &history, 0.0)?,
+                        });
+                        break 'schedule;
+                    }
                     if cutbacks > p.solver.max_cutbacks {
                         result.failure = Some(format!(
                             "segment {si} ({seg:?}): increment to {new_value:.6} {} at t = {:.6} s failed after {cutbacks} halvings: {e}",

@@ -33,6 +33,9 @@ pub struct Summary<'a> {
     pub final_load_nN: f64,
     /// pull-off, jump-in and jump-out (adhesion)
     pub events: super::events::Events,
+    /// under load control: the load beyond which the indenter separated, nN
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separated_nN: Option<f64>,
     /// energy dissipated by contact damping over the run, aJ
     pub damping_dissipated_aJ: f64,
     /// largest strain energy of the run, aJ (to compare the damping with)
@@ -65,6 +68,7 @@ impl IndentResult {
             contact_radius_at_max_load_nm: best.contact_radius_nm,
             final_load_nN: self.rows.last().map_or(0.0, |r| r.load_nN),
             events: super::events::detect(&self.rows),
+            separated_nN: self.separated_nN,
             damping_dissipated_aJ: self.rows.last().map_or(0.0, |r| r.damping_dissipated_aJ),
             max_strain_energy_aJ: self
                 .rows
