@@ -1,7 +1,7 @@
 //! FE pull-off of the Tabor-sphere problem against the half-space solver (issue 5).
 //! `cargo run --example continuum_pulloff -- <mu> [R/z0] [small|finite] [lj93|lj104]`
 //! Env `EPR` (elements per contact radius), `ZONE` (overrides the smallest element, nm),
-//! `INC` (increments per segment), `CSV` (write the rows to this folder).
+//! `INC` (increments per segment), `C0` (damping coefficient, GPa·s/nm), `CSV` (write the rows to this folder).
 
 use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
 use turf::continuum::element::Kinematics;
@@ -28,6 +28,11 @@ fn main() {
     }
     if let Some(h) = env("ZONE") {
         p.mesh.smallest = Some(h);
+    }
+    if let Some(c0) = env("C0") {
+        if let Some(d) = p.adhesion.as_mut().and_then(|a| a.damping.as_mut()) {
+            d.c0 = c0;
+        }
     }
     if let Some(n) = env("INC") {
         p.solver.increments = n as usize;
