@@ -128,3 +128,25 @@ fn machine_spring_sets_the_jump_slope_and_load_control_the_pull_off() {
         "{po} vs {rigid_po}"
     );
 }
+
+/// Adhesion with Prony relaxation (the hyperfoam scene's combination): at a held depth the
+/// compressive load relaxes towards the long-term modulus.
+#[test]
+fn adhesive_contact_relaxes_under_a_hold() {
+    let mut p = tabor_sphere(0.5, 1000.0, LjKind::Lj93, Kinematics::Small);
+    p.material.prony =
+        vec![turf::continuum::material::viscoelastic::PronyTerm { g: 0.4, tau: 1.0 }];
+    p.schedule.truncate(1);
+    p.schedule.push(Segment::Hold { time: 3.0 });
+    let r = run(&p);
+    let at = |t: f64| {
+        r.rows
+            .iter()
+            .min_by(|a, b| (a.time_s - t).abs().total_cmp(&(b.time_s - t).abs()))
+            .unwrap()
+            .load_nN
+    };
+    let (start, end) = (at(7.0), at(10.0));
+    eprintln!("hold: load {start:.3} → {end:.3} nN");
+    assert!(end < start && start > 0.0, "{start} → {end}");
+}

@@ -589,10 +589,11 @@ pub fn run_indent(
         .iter()
         .map(|q| q.gap)
         .collect();
+    let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
     let ev0 = asm.evaluate(
         &solid,
         Some(&contact),
-        (&u[..ndof], &[]),
+        (&u[..ndof], &history),
         0.0,
         p.start,
         false,
@@ -622,7 +623,6 @@ pub fn run_indent(
         separated_nN: None,
     };
     let mut last_dv = 0.0;
-    let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
     let (mut time, mut drive, mut load) = (0.0, p.start, ev0.load);
     let mut dissipated = 0.0;
     let base = 1.0 / p.solver.increments.max(1) as f64;
