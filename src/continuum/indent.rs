@@ -527,6 +527,24 @@ fn drive_of(machine: Machine, by_load: bool, v: f64) -> Drive {
     }
 }
 
+/// The state at the end of segment `si` (`x` = (u, δ)).
+fn snapshot(
+    si: usize,
+    time: f64,
+    x: &[f64],
+    solid: &Solid,
+    history: &[f64],
+) -> Result<Snapshot, FeError> {
+    let n = solid.dofs();
+    Ok(Snapshot {
+        label: format!("segment{si}"),
+        time_s: time,
+        depth_nm: x[n],
+        displacement: x[..n].to_vec(),
+        stress: solid.stresses(&x[..n], history, 0.0)?,
+    })
+}
+
 /// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished.
 pub fn run_indent(
     p: &IndentParams,
@@ -720,13 +738,9 @@ pub fn run_indent(
                     last_dv = 0.0;
                     if cutbacks > p.solver.max_cutbacks && by_load && target < v0 {
                         result.separated_nN = Some(value);
-                        result.snapshots.push(Snapshot {
-                            label: format!("segment{si}"),
-                            time_s: time,
-                            depth_nm: u[ndof],
-                            displacement: u[..ndof].to_vec(),
-                            stress: solid.stresses(&u[..ndof], &history, 0.0)?,
-                        });
+                        result
+                            .snapshots
+                            .push(snapshot(si, time, &u, &solid, &history)?);
                         break 'schedule;
                     }
                     if cutbacks > p.solver.max_cutbacks {
@@ -742,14 +756,9 @@ pub fn run_indent(
                 }
             }
         }
-        let dt_last = 0.0;
-        result.snapshots.push(Snapshot {
-            label: format!("segment{si}"),
-            time_s: time,
-            depth_nm: u[ndof],
-            displacement: u[..ndof].to_vec(),
-            stress: solid.stresses(&u[..ndof], &history, dt_last)?,
-        });
+        result
+            .snapshots
+            .push(snapshot(si, time, &u, &solid, &history)?);
     }
     result.stats.assembly = asm.stats;
     result.stats.wall_s = t_start.elapsed().as_secs_f64();

@@ -267,7 +267,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         .iter()
         .max_by(|a, b| a.load_nN.total_cmp(&b.load_nN))
         .ok_or_else(|| failed("no increment converged".into()))?;
-    let values = BTreeMap::from([
+    let mut values = BTreeMap::from([
         ("max_load_nN".to_string(), peak.load_nN),
         ("depth_at_max_load_nm".to_string(), peak.depth_nm),
         (
@@ -279,6 +279,38 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         ("assembly_s".to_string(), result.stats.assembly.assembly_s),
         ("solve_s".to_string(), result.stats.assembly.solve_s),
     ]);
+    let summary = result.summary();
+    if let Some(a) = &params.adhesion {
+        let scale = std::f64::consts::PI * a.law.gamma() * params.indenter.radius();
+        let pull_off = result
+            .separated_nN
+            .or(summary.events.pull_off.map(|r| r.load_nN));
+        let named = [
+            ("pull_off_nN", pull_off),
+            (
+                "jump_in_load_nN",
+                summary.events.jump_in.map(|j| j.before.load_nN),
+            ),
+            (
+                "jump_out_load_nN",
+                summary.events.jump_out.map(|j| j.before.load_nN),
+            ),
+        ];
+        for (name, v) in named {
+            if let Some(v) = v {
+                values.insert(name.to_string(), v);
+                values.insert(name.replace("_nN", "_normalised"), v / scale);
+            }
+        }
+        values.insert(
+            "damping_dissipated_aJ".to_string(),
+            summary.damping_dissipated_aJ,
+        );
+        values.insert(
+            "max_strain_energy_aJ".to_string(),
+            summary.max_strain_energy_aJ,
+        );
+    }
     Ok(StageOutput {
         values,
         tables: Vec::new(),
