@@ -150,3 +150,27 @@ fn adhesive_contact_relaxes_under_a_hold() {
     eprintln!("hold: load {start:.3} → {end:.3} nN");
     assert!(end < start && start > 0.0, "{start} → {end}");
 }
+
+/// Towards DMT: μ = 0.5 and 0.1 (no jumps) against the half-space, and −2 approached.
+#[test]
+fn small_strain_pull_off_tends_to_dmt_at_small_mu() {
+    let mut last = -1.5;
+    for mu in [0.5, 0.1] {
+        let r = run(&tabor_sphere(mu, 1000.0, LjKind::Lj93, Kinematics::Small));
+        let fe = normalised_pull_off(&r).expect("pull-off passed");
+        let hs = pull_off(
+            &Problem::scaled(mu, LjKind::Lj93).unwrap(),
+            &HalfspaceParams::default(),
+        )
+        .unwrap()
+        .normalized;
+        eprintln!("μ = {mu}: FE {fe:.4}, half-space {hs:.4}");
+        assert!((fe / hs - 1.0).abs() < PULL_OFF_TOL, "FE {fe} vs {hs}");
+        assert!(
+            r.summary().events.jump_in.is_none(),
+            "no jump-in below μ ≈ 0.7"
+        );
+        assert!(fe < last && fe > -2.0, "{fe} after {last}");
+        last = fe;
+    }
+}
