@@ -132,11 +132,13 @@ fn run_refuses_physics_the_fe_does_not_model_yet_and_keeps_a_summary() {
         "scenes/hyperfoam_indent.toml",
         "--out",
         dir.to_str().unwrap(),
+        "--set",
+        "solver.method=riks",
     ]);
     assert!(!out.status.success());
     let err = text(&out.stderr);
     assert!(
-        err.contains("stage 'continuum' failed: LJ adhesion ([adhesion]) is not built into the continuum stage yet"),
+        err.contains("stage 'continuum' failed: arc-length continuation (solver.method = \"riks\") is not built into the continuum stage yet"),
         "{err}"
     );
     let summary: serde_json::Value =

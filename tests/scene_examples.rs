@@ -20,6 +20,7 @@ const ROUNDING: f64 = 1e-12;
 #[test]
 fn every_scene_in_the_folder_loads_and_is_tested_here() {
     let tested = [
+        "adhesion_pulloff_sweep.toml",
         "hertz.toml",
         "hyperfoam_indent.toml",
         "jkr_sphere.toml",
@@ -155,6 +156,21 @@ fn set_overrides_are_applied_and_converted() {
     assert_eq!(l.base.derived.schedule.unwrap().max_depth_nm, 6.0);
     let l = load(&f, &["schedule.segment.1.rate=\"2 nm/s\"".into()]).unwrap();
     assert_eq!(l.base.derived.schedule.unwrap().duration_s, 4.0 + 2.0);
+}
+
+#[test]
+fn adhesion_pulloff_sweep_covers_tabor_mu_from_dmt_to_one() {
+    assert!(stages("adhesion_pulloff_sweep.toml").contains(&Stage::Continuum));
+    let l = load(&scenes_dir().join("adhesion_pulloff_sweep.toml"), &[]).unwrap();
+    let mus: Vec<f64> = l
+        .sweep
+        .iter()
+        .map(|p| p.scene.derived.tabor_mu.unwrap())
+        .collect();
+    // the γ values are rounded to 4 digits: μ to 1e-3 of 0.1, 0.5, 1
+    for (mu, want) in mus.iter().zip([0.1, 0.5, 1.0]) {
+        assert!((mu / want - 1.0).abs() < 1e-3, "{mu} vs {want}");
+    }
 }
 
 #[test]

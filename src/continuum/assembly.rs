@@ -143,6 +143,15 @@ pub struct Evaluation {
     pub force_scale: f64,
     /// tangent values in the pattern's order (empty if not asked for)
     pub values: Vec<f64>,
+    /// the elements' share of `energy` (strain energy, or the incremental potential of a
+    /// viscoelastic step), aJ
+    pub strain_energy: f64,
+    /// the contact damping pseudo-potential's share of `energy`, aJ
+    pub damping_energy: f64,
+    /// ∂²Π/∂u∂δ for every dof (constrained entries zeroed), nN/nm
+    pub load_gradient: Vec<f64>,
+    /// ∂²Π/∂δ², nN/nm
+    pub load_stiffness: f64,
 }
 
 /// The sparse pattern of a solid (and contact surface) with its factorisation.
@@ -214,6 +223,10 @@ impl Assembler {
             load: 0.0,
             force_scale: 0.0,
             values: Vec::new(),
+            strain_energy: 0.0,
+            damping_energy: 0.0,
+            load_gradient: vec![0.0; solid.dofs()],
+            load_stiffness: 0.0,
         };
         if tangent {
             ev.values.reserve(36 * outs.len());
@@ -221,6 +234,7 @@ impl Assembler {
         for (g, o) in solid.elements.iter().zip(&outs) {
             let d: [usize; 6] = dofs_of(&g.nodes);
             ev.energy += o.energy;
+            ev.strain_energy += o.energy;
             ev.force_scale += o.force.iter().map(|f| f * f).sum::<f64>();
             for (p, &dp) in d.iter().enumerate() {
                 ev.gradient[dp] += o.force[p];
@@ -234,18 +248,23 @@ impl Assembler {
         }
         if let Some(c) = contact {
             let small = solid.kinematics == Kinematics::Small;
-            for s in &c.segments {
+            for (i, s) in c.segments.iter().enumerate() {
                 let x_ref = [solid.nodes[s[0]], solid.nodes[s[1]]];
                 let x = [0, 1].map(|a| {
                     let n = s[a];
                     [x_ref[a][0] + u[2 * n], x_ref[a][1] + u[2 * n + 1]]
                 });
-                let o = c.segment(x, x_ref, depth, small);
+                let o = c.segment(i, x, x_ref, depth, small);
                 let d: [usize; 4] = dofs_of(s);
                 ev.energy += o.energy;
+                ev.damping_energy += o.damping;
                 ev.load += o.load;
+                ev.load_stiffness += o.load_stiffness;
                 for (p, &dp) in d.iter().enumerate() {
                     ev.gradient[dp] += o.force[p];
+                    if !solid.fixed[dp] {
+                        ev.load_gradient[dp] += o.load_gradient[p];
+                    }
                     if tangent {
                         for (q, &dq) in d.iter().enumerate() {
                             let free = !solid.fixed[dp] && !solid.fixed[dq];

@@ -29,6 +29,7 @@
 //! (A law acting at 0 < g < h_r instead holds the surface h_r *below* the indenter: the
 //! solid is then indented by δ + h_r, +1.5h_r/δ in the Hertz load.)
 
+use super::damping::ContactDamping;
 use super::indenter::Indenter;
 use super::mesh::Mesh;
 use crate::laws::LennardJones;
@@ -49,6 +50,17 @@ impl SurfaceLaw for LennardJones {
     }
     fn contact_gap(&self) -> f64 {
         self.z0
+    }
+}
+
+/// Either Lennard-Jones law of [`crate::laws`] (plain or thermally shifted): the adhesive
+/// contact of seed §4.2 and §5.2, its repulsive core doing the work of the penalty.
+impl SurfaceLaw for crate::laws::SurfaceLaw {
+    fn eval(&self, g: f64) -> (f64, f64, f64) {
+        crate::laws::SurfaceLaw::eval(self, g)
+    }
+    fn contact_gap(&self) -> f64 {
+        self.z0()
     }
 }
 
@@ -121,6 +133,22 @@ pub struct Contact<'a> {
     pub law: &'a dyn SurfaceLaw,
     /// quadrature on [0, 1]
     pub quadrature: Vec<(f64, f64)>,
+    /// viscous contact damping over the current step, if any
+    pub damping: Option<Damping<'a>>,
+}
+
+/// Contact damping over one step (seed eq. 4.4) as an incremental pseudo-potential: at each
+/// quadrature point ½ c(gₙ)(g − gₙ)²/Δt per unit area, gₙ the gap at the start of the step,
+/// so its gradient is the damping pressure c(gₙ)·ġ with ġ = (g − gₙ)/Δt (backward Euler).
+/// Freezing c at gₙ keeps the force the exact gradient of an energy the code evaluates.
+#[derive(Debug, Clone, Copy)]
+pub struct Damping<'a> {
+    /// the coefficient c(g)
+    pub law: ContactDamping,
+    /// gap gₙ at every quadrature point (segment-major, as [`Contact::profile`]), nm
+    pub previous: &'a [f64],
+    /// step Δt, s (> 0)
+    pub dt: f64,
 }
 
 /// Energy, force, stiffness and indenter load of one segment.
@@ -134,6 +162,12 @@ pub struct SegmentOutput {
     pub stiffness: [[f64; 4]; 4],
     /// ∂Π/∂δ: this segment's share of the load P, nN
     pub load: f64,
+    /// ∂²Π/∂δ∂x: the load's gradient in the nodal positions, nN/nm
+    pub load_gradient: [f64; 4],
+    /// ∂²Π/∂δ², nN/nm
+    pub load_stiffness: f64,
+    /// the damping pseudo-potential's share of `energy`, aJ
+    pub damping: f64,
 }
 
 /// A point of the contact profile.
@@ -153,9 +187,11 @@ impl Contact<'_> {
         mesh.surface.windows(2).map(|w| [w[0], w[1]]).collect()
     }
 
-    /// Evaluate segment `x` (current ends) with reference ends `x_ref`.
+    /// Evaluate segment number `index` (for the damping's start-of-step gaps) with current
+    /// ends `x` and reference ends `x_ref`.
     pub fn segment(
         &self,
+        index: usize,
         x: [[f64; 2]; 2],
         x_ref: [[f64; 2]; 2],
         depth: f64,
@@ -185,8 +221,12 @@ impl Contact<'_> {
             force: [0.0; 4],
             stiffness: [[0.0; 4]; 4],
             load: 0.0,
+            load_gradient: [0.0; 4],
+            load_stiffness: 0.0,
+            damping: 0.0,
         };
-        for &(xi, w) in &self.quadrature {
+        let nq = self.quadrature.len();
+        for (q, &(xi, w)) in self.quadrature.iter().enumerate() {
             let nsh = [1.0 - xi, xi];
             let xq = surface_point(x, x_ref, xi, small);
             let r = nsh[0] * geo[0][0] + nsh[1] * geo[1][0];
@@ -196,11 +236,21 @@ impl Contact<'_> {
                 gp.normal[0] = 0.0;
                 gp.hessian = [[0.0, 0.0], [0.0, gp.hessian[1][1]]];
             }
-            let (phi, p, k) = self.law.eval(gp.gap);
+            let (mut phi, mut p, mut k) = self.law.eval(gp.gap);
+            let c = two_pi * w;
+            if let Some(d) = &self.damping {
+                let gn = d.previous[index * nq + q];
+                let cd = d.law.coefficient(gn) / d.dt;
+                let dg = gp.gap - gn;
+                let e = 0.5 * cd * dg * dg;
+                phi += e;
+                p -= cd * dg;
+                k -= cd;
+                out.damping += c * len * r * e;
+            }
             if phi == 0.0 && p == 0.0 && k == 0.0 {
                 continue;
             }
-            let c = two_pi * w;
             let n = gp.normal;
             let mut dphi = [0.0; 4];
             let mut d2phi = [[0.0; 4]; 4];
@@ -221,7 +271,13 @@ impl Contact<'_> {
             }
             out.energy += c * len * r * phi;
             out.load -= c * len * r * p * n[1];
+            // ∂φ/∂δ = −p n_z (∂g/∂δ = n_z), and its derivatives in x and δ
+            let phi_d = -p * n[1];
+            out.load_stiffness += c * len * r * (-k * n[1] * n[1] - p * gp.hessian[1][1]);
             for s in 0..4 {
+                let (a, i) = (s / 2, s % 2);
+                let dphi_d = (-k * n[1] * n[i] - p * gp.hessian[1][i]) * nsh[a];
+                out.load_gradient[s] += c * ((r * dl[s] + len * dr[s]) * phi_d + len * r * dphi_d);
                 out.force[s] += c * (r * phi * dl[s] + len * phi * dr[s] + len * r * dphi[s]);
                 for t in 0..4 {
                     out.stiffness[s][t] += c
@@ -289,15 +345,42 @@ mod tests {
     const FD_TOL: f64 = 1e-6; // central differences with step 1e-6 nm
 
     fn check(law: &dyn SurfaceLaw, ind: Indenter, x: [[f64; 2]; 2], depth: f64, small: bool) {
+        check_with(law, ind, x, depth, small, None);
+        // damping with start-of-step gaps a little above the current ones (closing gap)
+        let previous: Vec<f64> = (0..3)
+            .map(|q| ind.gap(x[0], depth).gap + 0.05 * (q + 1) as f64)
+            .collect();
+        let d = Damping {
+            law: ContactDamping {
+                c0: 0.7,
+                gap: 1e3,
+                eta: 0.5,
+            },
+            previous: &previous,
+            dt: 0.3,
+        };
+        check_with(law, ind, x, depth, small, Some(d));
+    }
+
+    fn check_with(
+        law: &dyn SurfaceLaw,
+        ind: Indenter,
+        x: [[f64; 2]; 2],
+        depth: f64,
+        small: bool,
+        damping: Option<Damping>,
+    ) {
         let c = Contact {
             segments: vec![],
             indenter: ind,
             law,
             quadrature: gauss_points(3),
+            damping,
         };
         let x_ref = [[x[0][0] - 0.1, 0.0], [x[1][0] + 0.2, 0.0]];
-        let o = c.segment(x, x_ref, depth, small);
+        let o = c.segment(0, x, x_ref, depth, small);
         assert!(o.energy != 0.0);
+        assert_eq!(damping.is_some(), o.damping > 0.0);
         let fmax = o.force.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let kmax = o
             .stiffness
@@ -310,8 +393,8 @@ mod tests {
             xp[t / 2][t % 2] += h;
             xm[t / 2][t % 2] -= h;
             let (op, om) = (
-                c.segment(xp, x_ref, depth, small),
-                c.segment(xm, x_ref, depth, small),
+                c.segment(0, xp, x_ref, depth, small),
+                c.segment(0, xm, x_ref, depth, small),
             );
             let f_fd = (op.energy - om.energy) / (2.0 * h);
             assert!((f_fd - o.force[t]).abs() < FD_TOL * fmax, "force {t}");
@@ -322,11 +405,28 @@ mod tests {
                     "K[{s}][{t}]"
                 );
             }
+            let lg_fd = (op.load - om.load) / (2.0 * h);
+            assert!(
+                (lg_fd - o.load_gradient[t]).abs() < FD_TOL * kmax,
+                "∂P/∂x {t}: {lg_fd} vs {}",
+                o.load_gradient[t]
+            );
         }
-        let l_fd = (c.segment(x, x_ref, depth + h, small).energy
-            - c.segment(x, x_ref, depth - h, small).energy)
-            / (2.0 * h);
+        let (op, om) = (
+            c.segment(0, x, x_ref, depth + h, small),
+            c.segment(0, x, x_ref, depth - h, small),
+        );
+        let l_fd = (op.energy - om.energy) / (2.0 * h);
         assert!((l_fd - o.load).abs() < FD_TOL * o.load.abs().max(fmax));
+        let ls_fd = (op.load - om.load) / (2.0 * h);
+        assert!((ls_fd - o.load_stiffness).abs() < FD_TOL * kmax, "∂P/∂δ");
+        for t in 0..4 {
+            let g_fd = (op.force[t] - om.force[t]) / (2.0 * h);
+            assert!(
+                (g_fd - o.load_gradient[t]).abs() < FD_TOL * kmax,
+                "∂f/∂δ {t}"
+            );
+        }
     }
 
     #[test]
@@ -365,6 +465,9 @@ mod tests {
         for small in [false, true] {
             check(&pen, sphere, x, 1.3, small);
             check(&lj, sphere, x, 0.5, small);
+            let shifted: crate::laws::SurfaceLaw =
+                crate::laws::ThermallyShifted::new(lj, 0.4).unwrap().into();
+            check(&shifted, sphere, [[3.0, -0.3], [4.5, -0.4]], 0.2, small);
             check(
                 &lj,
                 Indenter::berkovich_tangent(50.0),
@@ -386,6 +489,7 @@ mod tests {
             indenter: Indenter::Sphere { radius: 10.0 },
             law: &law,
             quadrature: gauss_points(2),
+            damping: None,
         };
         let pts = |g: [f64; 3]| -> Vec<ProfilePoint> {
             (0..3)

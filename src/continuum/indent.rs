@@ -3,13 +3,21 @@
 //! (axis u_r = 0, base bonded u = 0), then for each schedule segment march the indenter depth
 //! (and time) in increments, solving each by Newton ([`super::newton`]); a failed increment
 //! is halved and retried, a quick one lets the increment grow back. Displacement control:
-//! the depth δ(t) follows the segments (load/unload at a rate, hold for a time); the load is
-//! P = ∂Π/∂δ.
+//! the depth δ(t) follows the segments (approach/load/unload at a rate, hold for a time); the
+//! load is P = ∂Π/∂δ. Through a machine spring or under load control ([`super::machine`]) the
+//! schedule drives Δ or P̂ instead and δ is an unknown. With adhesion ([`super::adhesion`]) the
+//! schedule may start clear of the surface (`start` < 0) and the LJ law replaces the penalty;
+//! contact damping, if given, is integrated over each step (except on load-controlled
+//! segments) and its dissipation is reported per row against the strain energy. Under load
+//! control an unloading segment that finds no equilibrium after every halving has reached the
+//! pull-off: the indenter separates there and the run ends ([`IndentResult::separated_nN`]).
 
-use super::assembly::{Assembler, AssemblyStats, Equilibrium, Solid};
-use super::contact::{gauss_points, Contact, SmoothPenalty};
+use super::adhesion::{self, AdhesionParams};
+use super::assembly::{Assembler, AssemblyStats, Solid};
+use super::contact::{gauss_points, Contact, Damping, SmoothPenalty, SurfaceLaw};
 use super::element::Kinematics;
 use super::indenter::Indenter;
+use super::machine::{Drive, Driven, Machine};
 use super::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use super::material::linear::LinearElastic;
 use super::material::viscoelastic::{validate_prony, PronyTerm, Viscoelastic};
@@ -39,6 +47,13 @@ pub enum Segment {
     /// as `Load`, named for the way back
     Unload {
         /// target depth δ, nm
+        to: f64,
+        /// speed, nm/s (> 0)
+        rate: f64,
+    },
+    /// move the indenter (or the drive) towards the surface: a depth in every control
+    Approach {
+        /// target depth, nm
         to: f64,
         /// speed, nm/s (> 0)
         rate: f64,
@@ -184,6 +199,15 @@ pub struct IndentParams {
     /// increments and Newton
     #[serde(default)]
     pub solver: SolverParams,
+    /// initial depth (negative: clear of the surface; needs adhesion to matter), nm
+    #[serde(default)]
+    pub start: f64,
+    /// Lennard-Jones adhesion instead of the repulsive penalty
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adhesion: Option<AdhesionParams>,
+    /// how the indenter is driven
+    #[serde(default)]
+    pub machine: Machine,
 }
 
 impl IndentParams {
@@ -213,6 +237,9 @@ impl IndentParams {
             ],
             contact: ContactParams::default(),
             solver: SolverParams::default(),
+            start: 0.0,
+            adhesion: None,
+            machine: Machine::Displacement,
         }
     }
 
@@ -251,6 +278,9 @@ impl IndentParams {
             ],
             contact: ContactParams::default(),
             solver: SolverParams::default(),
+            start: 0.0,
+            adhesion: None,
+            machine: Machine::Displacement,
         }
     }
 }
@@ -271,8 +301,14 @@ pub struct Resolved {
     pub poisson: f64,
     /// reduced modulus E* = E/(1 − ν²) against a rigid indenter, GPa
     pub reduced_modulus_GPa: f64,
-    /// the repulsive law
+    /// the repulsive law (used without adhesion)
     pub penalty: SmoothPenalty,
+    /// with adhesion: the LJ process zone E*z₀²/γ, nm
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub process_zone_nm: Option<f64>,
+    /// with adhesion: Tabor's μ against the tip radius
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tabor: Option<f64>,
 }
 
 /// Resolve the derived sizes (and validate the parameters).
@@ -280,17 +316,28 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     p.indenter.validate().map_err(FeError::Params)?;
     p.material.elastic.validate()?;
     validate_prony(&p.material.prony)?;
-    let mut depth: f64 = 0.0;
-    let mut max_depth: f64 = 0.0;
+    p.machine.validate().map_err(FeError::Params)?;
+    if let Some(a) = &p.adhesion {
+        a.validate().map_err(FeError::Params)?;
+    }
+    if !p.start.is_finite() {
+        return Err(FeError::Params(format!("start depth {} nm", p.start)));
+    }
+    let (mut depth, mut load) = (p.start, 0.0f64);
+    let (mut max_depth, mut max_load) = (p.start, 0.0f64);
     for s in &p.schedule {
+        let by_load = p.machine == Machine::Load && !matches!(s, Segment::Approach { .. });
         match *s {
-            Segment::Load { to, rate } | Segment::Unload { to, rate } => {
-                if !(rate > 0.0 && to.is_finite()) {
+            Segment::Load { to, rate }
+            | Segment::Unload { to, rate }
+            | Segment::Approach { to, rate } => {
+                let now = if by_load { &mut load } else { &mut depth };
+                if !(rate > 0.0 && to.is_finite() && to != *now) {
                     return Err(FeError::Params(format!(
-                        "schedule segment {s:?}: rate must be positive and the target finite"
+                        "schedule segment {s:?}: rate must be positive, the target finite and different from the current {now}"
                     )));
                 }
-                depth = to;
+                *now = to;
             }
             Segment::Hold { time } => {
                 if !(time > 0.0 && time.is_finite()) {
@@ -301,13 +348,21 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
             }
         }
         max_depth = max_depth.max(depth);
+        max_load = max_load.max(load);
     }
-    if !(max_depth > 0.0) {
+    let (e, nu) = p.material.elastic.initial_moduli();
+    let e_star = e / (1.0 - nu * nu);
+    if max_load > 0.0 {
+        // under load control: the Hertz depth of the largest load sizes the mesh
+        let r = p.indenter.radius();
+        max_depth = max_depth.max((0.75 * max_load / (e_star * r.sqrt())).powf(2.0 / 3.0));
+    }
+    if !(max_depth > 0.0) && p.adhesion.is_none() {
         return Err(FeError::Params(
             "the schedule never indents (no depth > 0)".into(),
         ));
     }
-    let a = p.indenter.contact_radius_estimate(max_depth);
+    let a = adhesion::sizing_radius(&p.indenter, e_star, p.adhesion.as_ref(), max_depth);
     let m = &p.mesh;
     if !(m.size_factor >= 10.0) {
         return Err(FeError::Params(format!(
@@ -315,7 +370,11 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
             m.size_factor
         )));
     }
-    let smallest = m.smallest.unwrap_or(a / m.elements_per_radius);
+    let process_zone = p.adhesion.as_ref().map(|ad| ad.process_zone(e_star));
+    let smallest = m.smallest.unwrap_or(
+        (a / m.elements_per_radius)
+            .min(process_zone.map_or(f64::INFINITY, |l| l / adhesion::ZONE_ELEMENTS)),
+    );
     let block = BlockSpec {
         width: m.width.unwrap_or(m.size_factor * a),
         depth: m.depth.unwrap_or(m.size_factor * a),
@@ -324,8 +383,6 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
         fine_depth: m.fine_depth * a,
         grading: m.grading,
     };
-    let (e, nu) = p.material.elastic.initial_moduli();
-    let e_star = e / (1.0 - nu * nu);
     let c = &p.contact;
     if !(c.penalty_factor > 0.0 && c.range_fraction > 0.0 && (1..=3).contains(&c.quadrature_points))
     {
@@ -344,6 +401,11 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
             stiffness: c.penalty_factor * e_star / smallest,
             range: c.range_fraction * smallest,
         },
+        process_zone_nm: process_zone,
+        tabor: p
+            .adhesion
+            .as_ref()
+            .map(|ad| ad.tabor(p.indenter.radius(), e_star)),
     })
 }
 
@@ -361,6 +423,15 @@ pub struct Row {
     pub contact_radius_nm: f64,
     /// Newton iterations of the increment
     pub iterations: usize,
+    /// the drive Δ through the machine spring, nm (= δ under displacement control; the load
+    /// controls under load control and this repeats δ)
+    pub drive_nm: f64,
+    /// gap at the surface point nearest the axis, nm
+    pub gap_nm: f64,
+    /// strain energy of the solid (the incremental potential with relaxation), aJ
+    pub strain_energy_aJ: f64,
+    /// energy dissipated by contact damping so far, aJ
+    pub damping_dissipated_aJ: f64,
 }
 
 /// The deformed state at the end of a segment.
@@ -397,6 +468,7 @@ pub struct RunStats {
 
 /// What a run produced.
 #[derive(Debug, Clone)]
+#[allow(non_snake_case)] // field names carry their units, as the output columns do
 pub struct IndentResult {
     /// the parameters
     pub params: IndentParams,
@@ -414,6 +486,10 @@ pub struct IndentResult {
     pub stats: RunStats,
     /// why the run stopped early, if it did
     pub failure: Option<String>,
+    /// under load control: the last converged load of an unloading segment beyond which no
+    /// equilibrium was found (the load-control pull-off, to within the last halved increment);
+    /// the indenter separates there and the rest of the schedule is skipped
+    pub separated_nN: Option<f64>,
 }
 
 /// Progress of a run, for the caller's display.
@@ -439,6 +515,49 @@ fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
     }
 }
 
+/// The controlled variable at the start of a segment and its target: (value, target,
+/// duration, by load).
+fn segment_span(seg: &Segment, machine: Machine, drive: f64, load: f64) -> (f64, f64, f64, bool) {
+    let by_load = machine == Machine::Load && !matches!(seg, Segment::Approach { .. });
+    let now = if by_load { load } else { drive };
+    match *seg {
+        Segment::Load { to, rate }
+        | Segment::Unload { to, rate }
+        | Segment::Approach { to, rate } => (now, to, (to - now).abs() / rate, by_load),
+        Segment::Hold { time } => (now, now, time, by_load),
+    }
+}
+
+/// What an increment at controlled value `v` prescribes.
+fn drive_of(machine: Machine, by_load: bool, v: f64) -> Drive {
+    match machine {
+        Machine::Spring { stiffness } => Drive::Spring {
+            stiffness,
+            drive: v,
+        },
+        Machine::Load if by_load => Drive::Load(v),
+        _ => Drive::Depth(v),
+    }
+}
+
+/// The state at the end of segment `si` (`x` = (u, δ)).
+fn snapshot(
+    si: usize,
+    time: f64,
+    x: &[f64],
+    solid: &Solid,
+    history: &[f64],
+) -> Result<Snapshot, FeError> {
+    let n = solid.dofs();
+    Ok(Snapshot {
+        label: format!("segment{si}"),
+        time_s: time,
+        depth_nm: x[n],
+        displacement: x[..n].to_vec(),
+        stress: solid.stresses(&x[..n], history, 0.0)?,
+    })
+}
+
 /// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished.
 pub fn run_indent(
     p: &IndentParams,
@@ -460,17 +579,57 @@ pub fn run_indent(
         solid.fixed[2 * n] = true;
         solid.fixed[2 * n + 1] = true;
     }
-    let law = resolved.penalty;
+    let penalty = resolved.penalty;
+    let law: &dyn SurfaceLaw = match &p.adhesion {
+        Some(a) => &a.law,
+        None => &penalty,
+    };
+    let damping_law = p.adhesion.as_ref().and_then(|a| a.damping);
+    // the surface (for profiles and the pattern); each step adds its damping to a copy
     let contact = Contact {
         segments: Contact::segments_of(&mesh),
         indenter: p.indenter,
-        law: &law,
+        law,
         quadrature: gauss_points(p.contact.quadrature_points),
+        damping: None,
     };
     let mut asm = Assembler::new(&solid, Some(&contact))?;
     let a = resolved.expected_contact_radius_nm;
-    let force_floor = 1e-6 * resolved.reduced_modulus_GPa * a * a;
+    // the forces in play are at least the elastic scale at the contact and, with adhesion, the
+    // DMT pull-off 2πγR (the largest adhesive load): the residual tolerance is relative to them
+    let adhesive_force = p.adhesion.as_ref().map_or(0.0, |ad| {
+        2.0 * std::f64::consts::PI * ad.law.gamma() * p.indenter.radius()
+    });
+    let force_floor = (1e-6 * resolved.reduced_modulus_GPa * a * a).max(adhesive_force);
 
+    let small = p.kinematics == Kinematics::Small;
+    let current = |solid: &Solid, u: &[f64]| -> Vec<[f64; 2]> {
+        solid
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
+            .collect()
+    };
+    let ndof = solid.dofs();
+    // the unknowns: nodal displacements, then the indenter depth δ
+    let mut u = vec![0.0; ndof + 1];
+    u[ndof] = p.start;
+    let mut u_prev = u.clone();
+    let mut gaps: Vec<f64> = contact
+        .profile(&current(&solid, &u), &solid.nodes, p.start, small)
+        .iter()
+        .map(|q| q.gap)
+        .collect();
+    let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
+    let ev0 = asm.evaluate(
+        &solid,
+        Some(&contact),
+        (&u[..ndof], &history),
+        0.0,
+        p.start,
+        false,
+    )?;
     let mut result = IndentResult {
         params: p.clone(),
         resolved,
@@ -478,10 +637,14 @@ pub fn run_indent(
         mesh,
         rows: vec![Row {
             time_s: 0.0,
-            depth_nm: 0.0,
-            load_nN: 0.0,
+            depth_nm: p.start,
+            load_nN: ev0.load,
             contact_radius_nm: 0.0,
             iterations: 0,
+            drive_nm: p.start,
+            gap_nm: gaps.first().copied().unwrap_or(0.0),
+            strain_energy_aJ: 0.0,
+            damping_dissipated_aJ: 0.0,
         }],
         snapshots: Vec::new(),
         stats: RunStats {
@@ -489,73 +652,86 @@ pub fn run_indent(
             ..RunStats::default()
         },
         failure: None,
+        separated_nN: None,
     };
-    let ndof = solid.dofs();
-    let mut u = vec![0.0; ndof];
-    let mut u_prev = vec![0.0; ndof];
-    let mut last_ddepth = 0.0;
-    let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
-    let (mut time, mut depth) = (0.0, 0.0);
+    let mut last_dv = 0.0;
+    let (mut time, mut drive, mut load) = (0.0, p.start, ev0.load);
+    let mut dissipated = 0.0;
     let base = 1.0 / p.solver.increments.max(1) as f64;
 
-    for (si, seg) in p.schedule.iter().enumerate() {
-        let (target, duration) = match *seg {
-            Segment::Load { to, rate } | Segment::Unload { to, rate } => {
-                (to, (to - depth).abs() / rate)
-            }
-            Segment::Hold { time } => (depth, time),
-        };
-        let (d0, t0) = (depth, time);
+    'schedule: for (si, seg) in p.schedule.iter().enumerate() {
+        let (v0, target, duration, by_load) = segment_span(seg, p.machine, drive, load);
+        let t0 = time;
+        let mut value = v0;
         let (mut done, mut step, mut cutbacks) = (0.0f64, base, 0usize);
         while done < 1.0 - 1e-12 {
             let s = step.min(1.0 - done);
-            let new_depth = d0 + (target - d0) * (done + s);
+            let new_value = v0 + (target - v0) * (done + s);
             let dt = duration * s;
-            let ddepth = new_depth - depth;
-            // predictor: extrapolate the last increment's displacement change
+            let dv = new_value - value;
+            let mode = drive_of(p.machine, by_load, new_value);
+            // predictor: extrapolate the last increment's change of (u, δ)
             let mut x = u.clone();
-            if last_ddepth != 0.0 && ddepth * last_ddepth > 0.0 {
-                let ratio = ddepth / last_ddepth;
+            if last_dv != 0.0 && dv * last_dv > 0.0 {
+                let ratio = dv / last_dv;
                 for ((xi, ui), pi) in x.iter_mut().zip(&u).zip(&u_prev) {
                     *xi += ratio * (ui - pi);
                 }
             }
-            let mut sys = Equilibrium {
+            if let Drive::Depth(d) = mode {
+                x[ndof] = d;
+            }
+            let step_contact = Contact {
+                segments: contact.segments.clone(),
+                quadrature: contact.quadrature.clone(),
+                // not on load-controlled segments: a damped step can hold a load beyond the
+                // static limit (the viscous force making up the difference), so the
+                // separation load would depend on c₀
+                damping: damping_law.filter(|_| !by_load).map(|law| Damping {
+                    law,
+                    previous: &gaps,
+                    dt,
+                }),
+                ..contact
+            };
+            let mut sys = Driven {
                 asm: &mut asm,
                 solid: &solid,
-                contact: Some(&contact),
+                contact: Some(&step_contact),
                 history: &history,
                 dt,
-                depth: new_depth,
+                drive: mode,
                 force_floor,
             };
             match newton::solve(&mut sys, &mut x, &p.solver.newton) {
                 Ok(info) => {
-                    let ev =
-                        asm.evaluate(&solid, Some(&contact), (&x, &history), dt, new_depth, false)?;
-                    solid.commit(&x, &mut history, dt)?;
+                    let ev = sys.evaluation(&x, false)?;
+                    let depth = x[ndof];
+                    solid.commit(&x[..ndof], &mut history, dt)?;
                     u_prev = std::mem::replace(&mut u, x);
-                    last_ddepth = ddepth;
-                    depth = new_depth;
+                    last_dv = dv;
+                    value = new_value;
                     done += s;
                     time = t0 + duration * done;
-                    let current: Vec<[f64; 2]> = solid
-                        .nodes
-                        .iter()
-                        .enumerate()
-                        .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
-                        .collect();
+                    dissipated += 2.0 * ev.damping_energy;
+                    let profile = contact.profile(&current(&solid, &u), &solid.nodes, depth, small);
+                    gaps.clear();
+                    gaps.extend(profile.iter().map(|q| q.gap));
+                    drive = match mode {
+                        Drive::Spring { drive, .. } => drive,
+                        _ => depth,
+                    };
+                    load = ev.load;
                     let row = Row {
                         time_s: time,
                         depth_nm: depth,
                         load_nN: ev.load,
-                        contact_radius_nm: contact.contact_radius(&contact.profile(
-                            &current,
-                            &solid.nodes,
-                            depth,
-                            p.kinematics == Kinematics::Small,
-                        )),
+                        contact_radius_nm: contact.contact_radius(&profile),
                         iterations: info.iterations,
+                        drive_nm: drive,
+                        gap_nm: gaps.first().copied().unwrap_or(0.0),
+                        strain_energy_aJ: ev.strain_energy,
+                        damping_dissipated_aJ: dissipated,
                     };
                     result.rows.push(row);
                     result.stats.increments += 1;
@@ -573,10 +749,18 @@ pub fn run_indent(
                     cutbacks += 1;
                     result.stats.cutbacks += 1;
                     step *= 0.5;
-                    last_ddepth = 0.0;
+                    last_dv = 0.0;
+                    if cutbacks > p.solver.max_cutbacks && by_load && target < v0 {
+                        result.separated_nN = Some(value);
+                        result
+                            .snapshots
+                            .push(snapshot(si, time, &u, &solid, &history)?);
+                        break 'schedule;
+                    }
                     if cutbacks > p.solver.max_cutbacks {
                         result.failure = Some(format!(
-                            "segment {si} ({seg:?}): increment to depth {new_depth:.6} nm at t = {:.6} s failed after {cutbacks} halvings: {e}",
+                            "segment {si} ({seg:?}): increment to {new_value:.6} {} at t = {:.6} s failed after {cutbacks} halvings: {e}",
+                            if by_load { "nN" } else { "nm" },
                             t0 + duration * (done + s)
                         ));
                         result.stats.assembly = asm.stats;
@@ -586,14 +770,9 @@ pub fn run_indent(
                 }
             }
         }
-        let dt_last = 0.0;
-        result.snapshots.push(Snapshot {
-            label: format!("segment{si}"),
-            time_s: time,
-            depth_nm: depth,
-            displacement: u.clone(),
-            stress: solid.stresses(&u, &history, dt_last)?,
-        });
+        result
+            .snapshots
+            .push(snapshot(si, time, &u, &solid, &history)?);
     }
     result.stats.assembly = asm.stats;
     result.stats.wall_s = t_start.elapsed().as_secs_f64();

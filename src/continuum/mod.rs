@@ -13,6 +13,11 @@
 //! - [`contact`]: Π_c = ∫φ(g) dA over the current surface with any [`contact::SurfaceLaw`]
 //!   (a repulsive penalty here; Lennard-Jones plugs into the same code).
 //! - [`assembly`]: parallel element kernels, deterministic scatter, sparse solves via faer.
+//! - [`adhesion`]: the LJ laws of [`crate::laws`] as the surface law, mesh sizes for the
+//!   process zone; [`damping`]: viscous contact damping (seed eq. 4.4).
+//! - [`machine`]: displacement control, a machine spring K or load control (the indenter
+//!   depth as an extra unknown, bordered solves).
+//! - [`events`]: jump-in, jump-out and pull-off from the rows; the contact radius definition.
 //! - [`newton`]: Newton with line search (Params/Info/Error).
 //! - [`indent`]: the driver, [`run_indent`] on [`IndentParams`] → [`IndentResult`].
 //! - [`output`]: CSV, summary, plots and VTU files ([`IndentResult::write`]).
@@ -20,11 +25,15 @@
 // `!(x > 0.0)` is used on purpose: it also rejects NaN. Index loops mirror the formulas.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
+pub mod adhesion;
 pub mod assembly;
 pub mod contact;
+pub mod damping;
 pub mod element;
+pub mod events;
 pub mod indent;
 pub mod indenter;
+pub mod machine;
 pub mod material;
 pub mod mesh;
 pub mod newton;

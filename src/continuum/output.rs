@@ -1,5 +1,6 @@
 //! Writing an indentation's results (DESIGN.md): `load_depth.csv`
-//! (`time_s, depth_nm, load_nN, contact_radius_nm`), `summary.json`, `plots/load_depth.{svg,png}`
+//! (`time_s, depth_nm, load_nN, contact_radius_nm`, then `drive_nm`, `gap_nm`, `strain_energy_aJ`,
+//! `damping_dissipated_aJ`), `summary.json`, `plots/load_depth.{svg,png}`
 //! and `vtk/indent_<segment>.vtu` (the deformed mesh with displacements and Cauchy stresses, for
 //! ParaView), all through [`crate::report`].
 
@@ -30,6 +31,15 @@ pub struct Summary<'a> {
     pub contact_radius_at_max_load_nm: f64,
     /// load at the end, nN
     pub final_load_nN: f64,
+    /// pull-off, jump-in and jump-out (adhesion)
+    pub events: super::events::Events,
+    /// under load control: the load beyond which the indenter separated, nN
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separated_nN: Option<f64>,
+    /// energy dissipated by contact damping over the run, aJ
+    pub damping_dissipated_aJ: f64,
+    /// largest strain energy of the run, aJ (to compare the damping with)
+    pub max_strain_energy_aJ: f64,
     /// the derived sizes
     pub resolved: &'a super::indent::Resolved,
     /// mesh figures
@@ -57,6 +67,14 @@ impl IndentResult {
             depth_at_max_load_nm: best.depth_nm,
             contact_radius_at_max_load_nm: best.contact_radius_nm,
             final_load_nN: self.rows.last().map_or(0.0, |r| r.load_nN),
+            events: super::events::detect(&self.rows),
+            separated_nN: self.separated_nN,
+            damping_dissipated_aJ: self.rows.last().map_or(0.0, |r| r.damping_dissipated_aJ),
+            max_strain_energy_aJ: self
+                .rows
+                .iter()
+                .map(|r| r.strain_energy_aJ)
+                .fold(0.0, f64::max),
             resolved: &self.resolved,
             mesh: &self.mesh_report,
             cost: &self.stats,
@@ -72,6 +90,10 @@ impl IndentResult {
             .column("depth_nm", col(|r| r.depth_nm))
             .column("load_nN", col(|r| r.load_nN))
             .column("contact_radius_nm", col(|r| r.contact_radius_nm))
+            .column("drive_nm", col(|r| r.drive_nm))
+            .column("gap_nm", col(|r| r.gap_nm))
+            .column("strain_energy_aJ", col(|r| r.strain_energy_aJ))
+            .column("damping_dissipated_aJ", col(|r| r.damping_dissipated_aJ))
             .write(&dir.join("load_depth.csv"))?;
         write_json(&dir.join("summary.json"), &self.summary())?;
         let plots = dir.join("plots");

@@ -1,20 +1,28 @@
 //! The `continuum` stage: axisymmetric finite-element indentation ([`crate::continuum`], seed
 //! chapter 4) under the scene's displacement schedule — linear, hyperfoam or card material,
-//! optional Prony relaxation, frictionless contact with a rigid sphere or blunt Berkovich.
+//! optional Prony relaxation, frictionless or Lennard-Jones adhesive contact (`[adhesion]`:
+//! 9-3, 10-4, a given thermal shift, contact damping) with a rigid sphere or blunt Berkovich,
+//! driven directly, through a machine spring (`machine.stiffness`) or under load control; the
+//! schedule may start clear of the surface.
 //!
-//! Physics the FE does not model yet is refused by name rather than ignored: LJ adhesion
-//! (`[adhesion]`), a machine spring or load control (`[machine]`), arc-length (`solver.method =
-//! "riks"`), and a schedule that starts clear of the surface. The engine's own files (CSV,
-//! plots, VTU) go under `continuum/` in the output folder.
+//! Physics the FE does not model yet is refused by name rather than ignored: arc-length
+//! (`solver.method = "riks"`), the thermal shift computed from `[turf]` tubes
+//! (`thermal_shift = true`), and the load-control machine springs k₁, k₂. The engine's own
+//! files (CSV, plots, VTU) go under `continuum/` in the output folder.
 
 use super::{StageContext, StageError, StageOutput};
+use crate::continuum::adhesion::AdhesionParams;
+use crate::continuum::damping::ContactDamping;
 use crate::continuum::indent::{ContactParams, MaterialParams, MeshParams, SolverParams};
 use crate::continuum::indenter::{Indenter, BERKOVICH_CONE_HALF_ANGLE_DEG};
+use crate::continuum::machine::Machine as FeMachine;
 use crate::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use crate::continuum::material::linear::LinearElastic;
 use crate::continuum::material::viscoelastic::PronyTerm;
 use crate::continuum::material::Elastic;
 use crate::continuum::{run_indent, IndentParams, IndentResult, Segment};
+use crate::laws::{LennardJones, SurfaceLaw, ThermallyShifted};
+use crate::scene::adhesion::ThermalShift;
 use crate::scene::indenter::Shape;
 use crate::scene::machine::Control;
 use crate::scene::material::MaterialModel;
@@ -39,17 +47,44 @@ fn not_built(what: &str) -> StageError {
 /// The FE parameters of a scene, or the reason they cannot be built.
 pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, StageError> {
     let s = &scene.scene;
-    if s.adhesion.is_some() {
-        return Err(not_built("LJ adhesion ([adhesion])"));
-    }
-    if let Some(m) = &s.machine {
-        if m.control == Control::Load {
-            return Err(not_built("load control (machine.control = \"load\")"));
+    let adhesion = match &s.adhesion {
+        None => None,
+        Some(a) => {
+            let base = LennardJones::new(a.law, a.gamma.0, a.z0.0);
+            let law: SurfaceLaw = match a.thermal_shift {
+                ThermalShift::Off => base.into(),
+                ThermalShift::Amplitude(u) => ThermallyShifted::new(base, u.0)
+                    .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?
+                    .into(),
+                ThermalShift::FromTubes => {
+                    return Err(not_built(
+                        "the thermal shift from the [turf] tubes (adhesion.thermal_shift = true; give a length)",
+                    ))
+                }
+            };
+            Some(AdhesionParams {
+                law,
+                damping: a.damping.as_ref().map(|d| ContactDamping {
+                    c0: d.c0.0,
+                    gap: d.gap.0,
+                    eta: d.eta.0,
+                }),
+            })
         }
-        if m.stiffness.is_some() {
-            return Err(not_built("a machine spring (machine.stiffness)"));
-        }
-    }
+    };
+    let machine = match &s.machine {
+        None => FeMachine::Displacement,
+        Some(m) => match (m.control, m.stiffness) {
+            (Control::Load, _) if m.k1.is_some() => {
+                return Err(not_built(
+                    "load control through the machine springs k1, k2 (machine.k1/k2)",
+                ))
+            }
+            (Control::Load, _) => FeMachine::Load,
+            (Control::Displacement, Some(k)) => FeMachine::Spring { stiffness: k.0 },
+            (Control::Displacement, None) => FeMachine::Displacement,
+        },
+    };
     let ind = s
         .indenter
         .as_ref()
@@ -139,12 +174,6 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         .schedule
         .as_ref()
         .ok_or_else(|| failed("needs [schedule]".into()))?;
-    if sched.start.0 != 0.0 {
-        return Err(failed(format!(
-            "schedule.start = {} nm: without adhesion the FE starts at first touch, δ = 0",
-            sched.start.0
-        )));
-    }
     let number = |a: &Option<crate::scene::quantity::Amount>, key: &str| {
         a.as_ref()
             .and_then(|x| x.number())
@@ -159,7 +188,11 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
                     .map(|t| t.0)
                     .ok_or_else(|| failed("hold segment: time unresolved".into()))?,
             },
-            SegmentKind::Load | SegmentKind::Approach => Segment::Load {
+            SegmentKind::Approach => Segment::Approach {
+                to: number(&seg.to, "to")?,
+                rate: number(&seg.rate, "rate")?,
+            },
+            SegmentKind::Load => Segment::Load {
                 to: number(&seg.to, "to")?,
                 rate: number(&seg.rate, "rate")?,
             },
@@ -202,6 +235,9 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         schedule,
         contact: ContactParams::default(),
         solver,
+        start: sched.start.0,
+        adhesion,
+        machine,
     })
 }
 
@@ -233,7 +269,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         .iter()
         .max_by(|a, b| a.load_nN.total_cmp(&b.load_nN))
         .ok_or_else(|| failed("no increment converged".into()))?;
-    let values = BTreeMap::from([
+    let mut values = BTreeMap::from([
         ("max_load_nN".to_string(), peak.load_nN),
         ("depth_at_max_load_nm".to_string(), peak.depth_nm),
         (
@@ -245,6 +281,38 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         ("assembly_s".to_string(), result.stats.assembly.assembly_s),
         ("solve_s".to_string(), result.stats.assembly.solve_s),
     ]);
+    let summary = result.summary();
+    if let Some(a) = &params.adhesion {
+        let scale = std::f64::consts::PI * a.law.gamma() * params.indenter.radius();
+        let pull_off = result
+            .separated_nN
+            .or(summary.events.pull_off.map(|r| r.load_nN));
+        let named = [
+            ("pull_off_nN", pull_off),
+            (
+                "jump_in_load_nN",
+                summary.events.jump_in.map(|j| j.before.load_nN),
+            ),
+            (
+                "jump_out_load_nN",
+                summary.events.jump_out.map(|j| j.before.load_nN),
+            ),
+        ];
+        for (name, v) in named {
+            if let Some(v) = v {
+                values.insert(name.to_string(), v);
+                values.insert(name.replace("_nN", "_normalised"), v / scale);
+            }
+        }
+        values.insert(
+            "damping_dissipated_aJ".to_string(),
+            summary.damping_dissipated_aJ,
+        );
+        values.insert(
+            "max_strain_energy_aJ".to_string(),
+            summary.max_strain_energy_aJ,
+        );
+    }
     Ok(StageOutput {
         values,
         tables: Vec::new(),

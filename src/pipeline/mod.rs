@@ -401,10 +401,10 @@ cells_per_zone = 12
 
     #[test]
     fn a_stage_that_cannot_run_is_an_error_naming_it_and_the_summary_is_kept() {
-        // theory runs first, then the continuum stage must refuse the adhesion it does not
+        // theory runs first, then the continuum stage must refuse the arc-length it does not
         // model yet, by name, and the theory result must stay in summary.json
         let fe = format!(
-            "{SCENE}\n[schedule]\n[[schedule.segment]]\nkind = \"load\"\nto = \"5 nm\"\nrate = \"10 nm/s\"\n"
+            "{SCENE}\n[schedule]\n[[schedule.segment]]\nkind = \"load\"\nto = \"5 nm\"\nrate = \"10 nm/s\"\n[solver]\nmethod = \"riks\"\n"
         )
         .replace("[halfspace]\ncells_per_zone = 12\n", "");
         let loaded = load_str(&fe, Path::new("p.toml"), &[]).unwrap();
@@ -416,10 +416,10 @@ cells_per_zone = 12
         let report = run(&loaded, &opts).unwrap();
         let e = report
             .failure
-            .expect("the continuum stage has no adhesion yet");
+            .expect("the continuum stage has no arc-length yet");
         assert!(
             e.to_string()
-                .starts_with("stage 'continuum' failed: LJ adhesion ([adhesion]) is not built"),
+                .starts_with("stage 'continuum' failed: arc-length continuation (solver.method = \"riks\") is not built"),
             "{e}"
         );
         let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();

@@ -1,0 +1,96 @@
+//! FE pull-off of the Tabor-sphere problem against the half-space solver (issue 5).
+//! `cargo run --example continuum_pulloff -- <mu> [R/z0] [small|finite] [lj93|lj104]`
+//! Env `EPR` (elements per contact radius), `ZONE` (overrides the smallest element, nm),
+//! `INC` (increments per segment), `C0` (damping coefficient, GPa·s/nm), `CSV` (write the rows to this folder).
+
+use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
+use turf::continuum::element::Kinematics;
+use turf::continuum::run_indent;
+use turf::halfspace::{pull_off, HalfspaceParams, Problem};
+use turf::laws::LjKind;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mu: f64 = args.first().and_then(|a| a.parse().ok()).unwrap_or(1.0);
+    let rz: f64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1000.0);
+    let kin = match args.get(2).map(String::as_str) {
+        Some("finite") => Kinematics::Finite,
+        _ => Kinematics::Small,
+    };
+    let kind = match args.get(3).map(String::as_str) {
+        Some("lj104") => LjKind::Lj104,
+        _ => LjKind::Lj93,
+    };
+    let mut p = tabor_sphere(mu, rz, kind, kin);
+    let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<f64>().ok());
+    if let Some(e) = env("EPR") {
+        p.mesh.elements_per_radius = e;
+    }
+    if let Some(h) = env("ZONE") {
+        p.mesh.smallest = Some(h);
+    }
+    if let Some(c0) = env("C0") {
+        if let Some(d) = p.adhesion.as_mut().and_then(|a| a.damping.as_mut()) {
+            d.c0 = c0;
+        }
+    }
+    if let Some(n) = env("INC") {
+        p.solver.increments = n as usize;
+    }
+    let r = match run_indent(&p, &mut |_| {}) {
+        Ok(r) => r,
+        Err(turf::continuum::FeError::Stopped(r)) => {
+            eprintln!("stopped: {:?}", r.failure);
+            *r
+        }
+        Err(e) => panic!("{e}"),
+    };
+    if let Ok(dir) = std::env::var("CSV") {
+        r.write(std::path::Path::new(&dir)).unwrap();
+    }
+    let hs = pull_off(
+        &Problem::scaled(mu, kind).unwrap(),
+        &HalfspaceParams::default(),
+    )
+    .map(|h| h.normalized)
+    .unwrap_or(f64::NAN);
+    let s = r.summary();
+    let fe = normalised_pull_off(&r).unwrap_or(f64::NAN);
+    let scale = std::f64::consts::PI * p.adhesion.unwrap().law.gamma() * p.indenter.radius();
+    println!(
+        "mu {mu} R/z0 {rz} {kin:?} {kind:?}: FE {fe:.4} half-space {hs:.4} ({:+.2} %); jump-out load {:?}; damping {:.3e} aJ / strain {:.3e} aJ ({:.3} %)",
+        100.0 * (fe / hs - 1.0),
+        s.events.jump_out.map(|j| j.before.load_nN / scale),
+        s.damping_dissipated_aJ,
+        s.max_strain_energy_aJ,
+        100.0 * s.damping_dissipated_aJ / s.max_strain_energy_aJ
+    );
+    println!(
+        "  mesh {} elements, h0 {:.3} nm, a_sizing {:.1} nm; {} increments, {} cutbacks, {} Newton, wall {:.1} s (assembly {:.1}, solve {:.1})",
+        r.mesh_report.elements,
+        r.resolved.block.smallest,
+        r.resolved.expected_contact_radius_nm,
+        r.stats.increments,
+        r.stats.cutbacks,
+        r.stats.newton_iterations,
+        r.stats.wall_s,
+        r.stats.assembly.assembly_s,
+        r.stats.assembly.solve_s
+    );
+    if let Some(j) = s.events.jump_in {
+        println!(
+            "  jump-in at δ {:.3} nm, P/(πγR) {:.3} → {:.3}",
+            j.before.drive_nm,
+            j.before.load_nN / scale,
+            j.after.load_nN / scale
+        );
+    }
+    if let Some(j) = s.events.jump_out {
+        println!(
+            "  jump-out at δ {:.3} nm, P/(πγR) {:.3} → {:.3}",
+            j.before.drive_nm,
+            j.before.load_nN / scale,
+            j.after.load_nN / scale
+        );
+    }
+}

@@ -1,0 +1,137 @@
+//! Jump-in, jump-out and pull-off of an adhesive indentation, read off the converged rows.
+//!
+//! - **Pull-off** is the minimum load along the curve (the load-control pull-off, as in the
+//!   half-space solver, `crate::halfspace`), reported only if the curve has passed it (a later
+//!   row carries a larger load), so a run that stops while the load still falls reports none.
+//! - **Jumps.** Under displacement control or through a spring, the equilibrium curve folds and
+//!   the state jumps (carried through by contact damping). An increment is part of a jump when
+//!   the central gap (at the surface point nearest the axis) changes by more than
+//!   [`JUMP_RATIO`] times the change of the drive; consecutive such increments form one jump,
+//!   reported by the rows before and after it. The first closing jump is the jump-in, the first
+//!   opening one the jump-out (its start is the displacement-controlled pull-off, −5/6 πγR
+//!   in the JKR limit).
+//! - **Contact radius** (every row): the outermost radius where the gap is below the law's
+//!   equilibrium gap z₀, i.e. where the LJ pressure changes sign from repulsive to attractive
+//!   ([`super::contact::Contact::contact_radius`]), as in the half-space solver.
+
+use super::indent::Row;
+use serde::Serialize;
+
+/// Change of the central gap per change of the drive above which an increment is a jump: on a
+/// quasi-static branch the ratio is of order one (−1 for a rigid surface), during a damped
+/// jump at a nearly fixed drive it is orders of magnitude larger.
+pub const JUMP_RATIO: f64 = 10.0;
+
+/// A jump: the converged rows before and after it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Jump {
+    /// the last row before the jump
+    pub before: Row,
+    /// the first row after it
+    pub after: Row,
+}
+
+/// What was detected.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Events {
+    /// the row of minimum load, if passed
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pull_off: Option<Row>,
+    /// the first closing jump
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jump_in: Option<Jump>,
+    /// the first opening jump
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jump_out: Option<Jump>,
+}
+
+/// Detect the events along `rows`.
+pub fn detect(rows: &[Row]) -> Events {
+    let mut ev = Events::default();
+    if let Some((i, min)) = rows
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.load_nN.total_cmp(&b.1.load_nN))
+    {
+        if min.load_nN < 0.0 && rows[i + 1..].iter().any(|r| r.load_nN > min.load_nN) {
+            ev.pull_off = Some(*min);
+        }
+    }
+    let jumping = |a: &Row, b: &Row| {
+        let dg = b.gap_nm - a.gap_nm;
+        dg.abs() > JUMP_RATIO * (b.drive_nm - a.drive_nm).abs() && dg != 0.0
+    };
+    let mut i = 1;
+    while i < rows.len() {
+        if !jumping(&rows[i - 1], &rows[i]) {
+            i += 1;
+            continue;
+        }
+        let start = i - 1;
+        let closing = rows[i].gap_nm < rows[i - 1].gap_nm;
+        while i < rows.len()
+            && jumping(&rows[i - 1], &rows[i])
+            && (rows[i].gap_nm < rows[i - 1].gap_nm) == closing
+        {
+            i += 1;
+        }
+        let jump = Jump {
+            before: rows[start],
+            after: rows[i - 1],
+        };
+        let slot = if closing {
+            &mut ev.jump_in
+        } else {
+            &mut ev.jump_out
+        };
+        if slot.is_none() {
+            *slot = Some(jump);
+        }
+    }
+    ev
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(drive: f64, gap: f64, load: f64) -> Row {
+        Row {
+            time_s: 0.0,
+            depth_nm: drive,
+            load_nN: load,
+            contact_radius_nm: 0.0,
+            iterations: 1,
+            drive_nm: drive,
+            gap_nm: gap,
+            strain_energy_aJ: 0.0,
+            damping_dissipated_aJ: 0.0,
+        }
+    }
+
+    #[test]
+    fn finds_the_jumps_and_the_passed_minimum() {
+        // approach: gap follows −drive, then snaps from 2 to 0.9 at drive ≈ −2
+        let rows = vec![
+            row(-3.0, 3.0, 0.0),
+            row(-2.5, 2.5, -0.1),
+            row(-2.0, 2.0, -0.3),
+            row(-1.99, 1.3, -1.0),
+            row(-1.98, 0.9, -0.8),
+            row(-1.5, 0.8, 1.0),
+            // retraction: the load passes a minimum, then the gap opens fast
+            row(-2.5, 1.0, -1.6),
+            row(-3.0, 1.1, -1.2),
+            row(-3.01, 2.9, -0.05),
+            row(-3.5, 3.5, 0.0),
+        ];
+        let e = detect(&rows);
+        let ji = e.jump_in.unwrap();
+        assert_eq!((ji.before.drive_nm, ji.after.drive_nm), (-2.0, -1.98));
+        let jo = e.jump_out.unwrap();
+        assert_eq!((jo.before.drive_nm, jo.after.drive_nm), (-3.0, -3.01));
+        assert_eq!(e.pull_off.unwrap().load_nN, -1.6);
+        // a curve still falling at its end has no pull-off
+        assert!(detect(&rows[..7]).pull_off.is_none());
+    }
+}
