@@ -102,7 +102,12 @@ fn the_platen_force_is_minus_the_derivative_of_the_equilibrium_energy() {
 
 #[test]
 fn a_small_turf_compresses_to_30_percent_and_unloads_the_same_with_1_and_2_threads() {
-    let pool = |n| rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
     let one = pool(1).install(run_curve);
     let two = pool(2).install(run_curve);
     assert_eq!(one.len(), 11);
@@ -163,7 +168,10 @@ fn the_pipeline_writes_the_curve_and_homogenize_fits_it() {
     assert!(report.failure.is_none(), "{:?}", report.failure);
     let csv = std::fs::read_to_string(dir.join("stress_strain.csv")).unwrap();
     let header = csv.lines().next().unwrap();
-    assert!(header.starts_with("step,loading,strain,stress_GPa,"), "{header}");
+    assert!(
+        header.starts_with("step,loading,strain,stress_GPa,"),
+        "{header}"
+    );
     assert_eq!(csv.lines().count(), 1 + 11);
     for f in [
         "stress_strain_loading.csv",
@@ -176,7 +184,10 @@ fn the_pipeline_writes_the_curve_and_homogenize_fits_it() {
         assert!(dir.join(f).is_file(), "{f}");
     }
     let vtu = std::fs::read_to_string(dir.join("vtk/discrete_step_005.vtu")).unwrap();
-    assert!(vtu.contains("NumberOfCells=\"4\""), "four tubes as polylines");
+    assert!(
+        vtu.contains("NumberOfCells=\"4\""),
+        "four tubes as polylines"
+    );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     let v = &json["stages"][0]["values"];

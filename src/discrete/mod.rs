@@ -10,6 +10,7 @@ pub mod broadphase;
 pub mod constraints;
 pub mod drive;
 pub mod energy;
+pub mod explicit_rods;
 pub mod model;
 pub mod platen;
 pub mod rod;

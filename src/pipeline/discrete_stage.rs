@@ -1,4 +1,5 @@
-//! The `discrete` stage: a `[turf]` generated, relaxed (contacts form, E = U − Γ of seed eq.
+//! The `discrete` stage. `[rods]`: explicit rods in equilibrium under their end loads (tip
+//! displacements, node positions as `discrete_rods_nodes.csv`). `[turf]`: a turf generated, relaxed (contacts form, E = U − Γ of seed eq.
 //! 1.1) and compressed by the `[compression]` platen to the scene's strain and back
 //! ([`crate::discrete`]); the curve analysed (σ₀, the tangent law (5.1), hysteresis).
 //!
@@ -13,17 +14,22 @@ use super::{StageContext, StageError, StageOutput};
 use crate::discrete::analysis::{Branch, CurveAnalysis};
 use crate::discrete::broadphase::PeriodicBox;
 use crate::discrete::drive::{compress, CompressionParams, StepRecord};
+use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
 use crate::discrete::model::{relax, StaticSolver, TurfSystem};
 use crate::discrete::platen::DEFAULT_WALL_STIFFNESS;
+use crate::discrete::rod::RodStiffness;
 use crate::discrete::solve_fire::FireParams;
+use crate::discrete::solve_newton::minimize_newton;
 use crate::discrete::solve_newton::NewtonParams;
-use crate::discrete::turf::{generate_turf, Turf, TurfParams};
+use crate::discrete::turf::{generate_turf, TurfParams};
 use crate::discrete::vdw::VdwParams;
+use crate::discrete::vdw_term::TubeLayout;
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
 use crate::report::vtk::{CellKind, DataArray, Grid};
 use crate::report::{write_json, ReportError};
 use crate::scene::compression::{Compression, DiscreteSolver, Platen};
+use crate::scene::rods::End;
 use crate::scene::{ResolvedScene, Stage};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -53,12 +59,15 @@ fn report(source: ReportError) -> StageError {
 /// Run the stage.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
     let s = &scene.scene;
-    if s.rods.is_some() {
-        return Err(failed(
-            "explicit [rods] scenes are not built into the discrete stage yet (the library \
-             side is crate::discrete::rod_problems); use a [turf] scene"
-                .into(),
-        ));
+    if let Some(r) = &s.rods {
+        if s.compression.is_some() {
+            return Err(failed(
+                "[rods] with [compression] is not built: explicit rods are solved under their \
+                 end loads"
+                    .into(),
+            ));
+        }
+        return run_rods(r, s.output.vtk, ctx);
     }
     let (Some(t), Some(k)) = (&s.turf, &s.compression) else {
         return Err(failed("needs [turf] and [compression]".into()));
@@ -109,7 +118,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         }
         if s.output.vtk && vtk_steps.contains(&rec.step) && vtk_error.is_none() {
             let rel = PathBuf::from(format!("vtk/discrete_step_{:03}.vtu", rec.step));
-            match tubes_grid(&turf, xs).write(&ctx.out_dir.join(&rel)) {
+            match polylines(&turf.layout(), xs).write(&ctx.out_dir.join(&rel)) {
                 Ok(()) => vtk_files.push(rel),
                 Err(e) => vtk_error = Some(e),
             }
@@ -205,6 +214,88 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         values,
         tables: vec![("tangent".into(), tangent_table(&analysis.loading))],
         evaluations: evaluations as u64,
+        files,
+    })
+}
+
+/// `[rods]`: the rods in equilibrium under their end loads (Newton, default tolerances).
+fn run_rods(
+    r: &crate::scene::rods::Rods,
+    vtk: bool,
+    ctx: &StageContext,
+) -> Result<StageOutput, StageError> {
+    let specs: Vec<RodSpec> = r
+        .rod
+        .iter()
+        .map(|rod| RodSpec {
+            points: rod.points.iter().map(|p| p.map(|c| c.0)).collect(),
+            ends: rod.ends.map(|e| match e {
+                End::Clamped => EndCondition::Clamped,
+                End::Pinned => EndCondition::Pinned,
+                End::Free => EndCondition::Free,
+            }),
+            load: rod.load.map(|f| f.map(|c| c.0)),
+            segments: rod.segments,
+        })
+        .collect();
+    let stiffness = RodStiffness::hollow_tube(r.tube.youngs.0, r.tube.r_o.0, r.tube.r_i.0);
+    let vdw = r.vdw.as_ref().map(vdw_params).transpose()?;
+    let mut rods = ExplicitRods::new(&specs, stiffness, r.tube.r_o.0, vdw.as_ref())
+        .map_err(|e| failed(e.to_string()))?;
+    let mut x = rods.x0.clone();
+    let info = minimize_newton(
+        &mut rods.model,
+        &rods.fixed,
+        &mut x,
+        &NewtonParams::default(),
+    )
+    .map_err(|e| failed(format!("equilibrium of the rods: {e}")))?;
+    let mut values = BTreeMap::from([
+        ("energy_aJ".to_string(), info.energy),
+        ("residual_nN".to_string(), info.residual),
+        ("newton_iterations".to_string(), info.cost.iterations as f64),
+        ("wall_time_solve_s".to_string(), info.cost.seconds),
+        ("bending_stiffness_nN_nm2".to_string(), stiffness.bending),
+    ]);
+    let (mut rod_col, mut node_col) = (Vec::new(), Vec::new());
+    let mut pos = [Vec::new(), Vec::new(), Vec::new()];
+    for (i, l) in rods.layout.iter().enumerate() {
+        let last = l.first_node + l.nodes - 1;
+        for (a, name) in ["dx", "dy", "dz"].iter().enumerate() {
+            let d = x[3 * last + a] - rods.x0[3 * last + a];
+            values.insert(format!("rod{i}_tip_{name}_nm"), d);
+        }
+        values.insert(
+            format!("rod{i}_length_nm"),
+            rods.model.rods.rods()[i].rest_length(),
+        );
+        for n in l.first_node..=last {
+            rod_col.push(i as f64);
+            node_col.push((n - l.first_node) as f64);
+            for (a, p) in pos.iter_mut().enumerate() {
+                p.push(x[3 * n + a]);
+            }
+        }
+    }
+    let [px, py, pz] = pos;
+    let nodes = Table::new()
+        .column("rod", rod_col)
+        .column("node", node_col)
+        .column("x_nm", px)
+        .column("y_nm", py)
+        .column("z_nm", pz);
+    let mut files = Vec::new();
+    if vtk {
+        let rel = PathBuf::from("vtk/discrete_rods.vtu");
+        polylines(&rods.layout, &x)
+            .write(&ctx.out_dir.join(&rel))
+            .map_err(report)?;
+        files.push(rel);
+    }
+    Ok(StageOutput {
+        values,
+        tables: vec![("rods_nodes".into(), nodes)],
+        evaluations: info.cost.gradient_evaluations as u64,
         files,
     })
 }
@@ -401,9 +492,8 @@ fn write_plots(
 }
 
 /// The tubes at configuration `x` as VTK polylines, with the tube index and radius per cell.
-fn tubes_grid(turf: &Turf, x: &[f64]) -> Grid {
+fn polylines(layout: &[TubeLayout], x: &[f64]) -> Grid {
     let points = x.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-    let layout = turf.layout();
     let cells = layout
         .iter()
         .map(|l| {
