@@ -67,7 +67,7 @@ pub fn resample(points: &[[f64; 3]], n: usize) -> Option<Vec<[f64; 3]>> {
     };
     let lengths: Vec<f64> = points.windows(2).map(seg).collect();
     let total: f64 = lengths.iter().sum();
-    if n == 0 || points.len() < 2 || !(total > 0.0) {
+    if n == 0 || points.len() < 2 || total.is_nan() || total <= 0.0 {
         return None;
     }
     let mut out = Vec::with_capacity(n + 1);

@@ -483,9 +483,9 @@ pub fn energy_segment_segment(
             sums.energy += w * u;
             let n = [dvec.x / rho, dvec.y / rho, dvec.z / rho];
             let fw = w * du;
-            for k in 0..3 {
-                sums.force[k] += fw * n[k];
-                sums.force_t[k] += fw * qb.t * n[k];
+            for (k, nk) in n.iter().enumerate() {
+                sums.force[k] += fw * nk;
+                sums.force_t[k] += fw * qb.t * nk;
             }
             if want_hessian {
                 // ∂²u(|r|)/∂r∂r = u'' n nᵀ + (u'/ρ)(I − n nᵀ)
