@@ -18,7 +18,9 @@ const FD_STEP: f64 = 1e-3;
 /// residual over δ (1e-6 nN × nodes / 1e-3 nm): 1e-4 relative is ten times above both.
 const FD_TOL: f64 = 1e-4;
 
-/// Four wavy 1-µm tubes of 8 segments in a 200 nm periodic box.
+/// Four slightly wavy 1-µm tubes of 8 segments in a 200 nm periodic box, tilted and waved
+/// little enough that the generated tubes do not cross (the generator places only the bases
+/// without overlap).
 fn small_turf() -> TurfParams {
     TurfParams {
         density: 1e-4,
@@ -26,8 +28,8 @@ fn small_turf() -> TurfParams {
         box_y: 200.0,
         length_mean: 1000.0,
         length_cv: 0.05,
-        tilt_spread: 0.1,
-        wave_amplitude: 40.0,
+        tilt_spread: 0.005,
+        wave_amplitude: 3.0,
         wave_length: 700.0,
         segment_length: 125.0,
         seed: 5,
@@ -55,7 +57,13 @@ fn relaxed_system() -> (TurfSystem, Vec<f64>) {
     )
     .unwrap();
     let mut x = turf.coordinates();
-    relax(&mut sys, &mut x, &newton()).unwrap();
+    let relaxed = relax(&mut sys, &mut x, &newton()).unwrap();
+    assert!(
+        relaxed.state.min_gap > 0.0,
+        "relaxed tubes must not interpenetrate: generated gap {} nm, relaxed {} nm",
+        relaxed.initial.min_gap,
+        relaxed.state.min_gap
+    );
     (sys, x)
 }
 
@@ -138,8 +146,8 @@ segment = "125 nm"
 [turf.growth]
 length = "1 um"
 length_spread = 0.05
-tilt = 0.1
-waviness = "40 nm"
+tilt = 0.005
+waviness = "3 nm"
 wavelength = "700 nm"
 [turf.vdw]
 gamma_line = "1 nN"
@@ -194,6 +202,9 @@ fn the_pipeline_writes_the_curve_and_homogenize_fits_it() {
     assert_eq!(json["stages"][0]["stage"], "discrete");
     assert_eq!(v["tubes"], 4.0);
     assert!(v["peak_stress_GPa"].as_f64().unwrap() > 0.0);
+    // relaxed tubes touch (a contact) without interpenetrating
+    let gap = v["relaxed_min_gap_nm"].as_f64().unwrap();
+    assert!(gap > 0.0 && gap < 2.5, "smallest relaxed gap {gap} nm");
     assert_eq!(json["stages"][1]["stage"], "homogenize");
     assert!(json["complete"].as_bool().unwrap());
     std::fs::remove_dir_all(dir).ok();

@@ -140,13 +140,16 @@ impl EnergyParts {
 }
 
 /// What a configuration looks like: energies, contacts, wall forces.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct State {
     /// energies by part
     pub energy: EnergyParts,
     /// segment pairs in contact: listed pairs with at least one quadrature point pair inside
     /// the interaction cutoff
     pub contacts: usize,
+    /// smallest surface gap between tubes over the quadrature point pairs in range, nm (+∞
+    /// without contacts; negative: tubes interpenetrate, the state is unphysical)
+    pub min_gap: f64,
     /// force of the turf on the platen, nN (0 without a platen)
     pub platen_force: f64,
     /// nodes touching the platen
@@ -234,15 +237,19 @@ impl TurfSystem {
         let m = &self.model;
         let (stretching, bending) = m.rods.energy_parts(x);
         let mut scratch = vec![0.0; x.len()];
-        let (vdw, contacts) = match &m.vdw {
+        let (vdw, contacts, min_gap) = match &m.vdw {
             Some(v) => {
                 let pairs = v.evaluate_pairs(x, false);
                 (
                     pairs.iter().map(|p| p.energy).sum(),
                     pairs.iter().filter(|p| p.point_pairs > 0).count(),
+                    pairs
+                        .iter()
+                        .map(|p| p.min_gap)
+                        .fold(f64::INFINITY, f64::min),
                 )
             }
-            None => (0.0, 0),
+            None => (0.0, 0, f64::INFINITY),
         };
         let mut walls = m.substrate.energy_gradient(x, &mut scratch);
         let (mut platen_force, mut platen_nodes) = (0.0, 0);
@@ -259,6 +266,7 @@ impl TurfSystem {
                 walls,
             },
             contacts,
+            min_gap,
             platen_force,
             platen_nodes,
         }

@@ -365,6 +365,9 @@ pub struct SegmentPairEnergy {
     pub hessian: Option<Box<[f64; 144]>>,
     /// number of quadrature point pairs inside the cutoff
     pub point_pairs: usize,
+    /// smallest surface gap ρ − r_a − r_b over the point pairs inside the cutoff, nm
+    /// (+∞ when there are none; negative when the tubes interpenetrate)
+    pub min_gap: f64,
 }
 
 /// Below this axis distance (nm) a point pair has no direction and is skipped (two axes can
@@ -426,6 +429,7 @@ pub fn energy_segment_segment(
         grad: [0.0; 12],
         hessian: want_hessian.then(|| Box::new([0.0; 144])),
         point_pairs: 0,
+        min_gap: f64::INFINITY,
     };
     let (la, lb) = closest_points_segment_segment_with_locations_nD(
         (&a.ends[0], &a.ends[1]),
@@ -479,6 +483,7 @@ pub fn energy_segment_segment(
             }
             let (u, du, d2u) = pot.eval(rho, r_sum);
             out.point_pairs += 1;
+            out.min_gap = out.min_gap.min(rho - r_sum);
             let w = qb.weight;
             sums.energy += w * u;
             let n = [dvec.x / rho, dvec.y / rho, dvec.z / rho];

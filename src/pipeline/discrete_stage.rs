@@ -100,6 +100,15 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     }
     let relaxed = relax(&mut sys, &mut x, &solver)
         .map_err(|e| failed(format!("relaxation of the generated turf: {e}")))?;
+    if relaxed.state.min_gap < 0.0 {
+        return Err(failed(format!(
+            "the generated turf has interpenetrating tubes that the relaxation did not separate \
+             (smallest surface gap {:.3} nm; {} contacts, van der Waals energy {:.4e} aJ): the \
+             generator places the bases without overlap but not the tubes along their length — \
+             lower turf.growth.tilt, waviness or the density",
+            relaxed.state.min_gap, relaxed.state.contacts, relaxed.state.energy.vdw
+        )));
+    }
     let params = CompressionParams {
         strain_max: k.to.0,
         steps: k.steps,
@@ -175,6 +184,9 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     put("relaxed_contact_aJ", b.contact);
     put("relaxed_total_aJ", b.total);
     put("relaxed_contacts", relaxed.state.contacts as f64);
+    if relaxed.state.min_gap.is_finite() {
+        put("relaxed_min_gap_nm", relaxed.state.min_gap);
+    }
     put("relaxation_iterations", relaxed.info.cost.iterations as f64);
     put("wall_time_relaxation_s", relaxed.info.cost.seconds);
     put("turf_height_nm", records[0].height);
