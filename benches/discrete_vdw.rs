@@ -1,4 +1,5 @@
 //! Speed of the tube–tube van der Waals term (issue 7): point-pair evaluations per second with
+//! contacts, segment evaluations per second of the whole turf energy with and without
 //! contacts, and the broadphase update of 100 tubes × 100 segments.
 //!
 //! `cargo bench --bench discrete_vdw`; the figures go to docs/benchmarks.md.
@@ -7,6 +8,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;
 use turf::discrete::broadphase::{Broadphase, SegmentSet};
 use turf::discrete::energy::EnergyTerm;
+use turf::discrete::rod::{Rod, RodSet, RodStiffness};
 use turf::discrete::turf::{generate_turf, TurfParams};
 use turf::discrete::vdw::VdwParams;
 use turf::discrete::vdw_term::VdwTerm;
@@ -58,6 +60,28 @@ fn bench(c: &mut Criterion) {
             h.clear();
             term.hessian(black_box(&x), &mut h);
             black_box(h.len())
+        })
+    });
+    // the whole turf energy (rods + contacts) against the rods alone, per segment
+    let rods = RodSet::new(
+        turf.tubes
+            .iter()
+            .zip(turf.layout())
+            .map(|(t, l)| Rod::natural(l.first_node, &t.nodes, RodStiffness::turf_tube()).unwrap())
+            .collect(),
+    );
+    g.throughput(Throughput::Elements(rods.segments() as u64));
+    g.bench_function("segments_without_contacts_turf_100x100", |b| {
+        let mut grad = vec![0.0; x.len()];
+        b.iter(|| black_box(rods.energy_gradient(black_box(&x), &mut grad)))
+    });
+    g.bench_function("segments_with_contacts_turf_100x100", |b| {
+        let mut grad = vec![0.0; x.len()];
+        b.iter(|| {
+            black_box(
+                rods.energy_gradient(black_box(&x), &mut grad)
+                    + term.energy_gradient(black_box(&x), &mut grad),
+            )
         })
     });
     g.throughput(Throughput::Elements(term.pairs().len() as u64));

@@ -24,6 +24,7 @@ fn every_scene_in_the_folder_loads_and_is_tested_here() {
         "hertz.toml",
         "hyperfoam_indent.toml",
         "jkr_sphere.toml",
+        "rods_cantilever.toml",
         "seed_card.toml",
         "turf_compression.toml",
         "turf_indent.toml",
@@ -115,6 +116,11 @@ fn hyperfoam_indent_runs_only_the_continuum_with_everything_on() {
     let tip = l.base.scene.indenter.as_ref().unwrap().tip_depth.unwrap().0;
     let expect = 1800.0 * (1.0 - 70.3f64.to_radians().sin());
     assert!((tip / expect - 1.0).abs() < ROUNDING);
+}
+
+#[test]
+fn rods_cantilever_is_discrete_only() {
+    assert_eq!(stages("rods_cantilever.toml"), [Stage::Discrete]);
 }
 
 #[test]

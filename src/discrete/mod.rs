@@ -1,9 +1,18 @@
 //! The discrete turf (seed chapter 2.4): tubes as elastica chains, van der Waals contacts,
 //! broadphase, generation, drives, analysis.
+//!
+//! Entry points: [`turf::generate_turf`] (a turf from `[turf]`), [`model::TurfSystem`] (its
+//! energy and clamps), [`model::relax`] (contacts form, E = U − Γ), [`drive::compress`] (the
+//! platen drive), [`analysis::CurveAnalysis`] (σ₀, tangent law, hysteresis).
 
+pub mod analysis;
 pub mod broadphase;
 pub mod constraints;
+pub mod drive;
 pub mod energy;
+pub mod explicit_rods;
+pub mod model;
+pub mod platen;
 pub mod rod;
 pub mod rod_kernels;
 pub mod rod_problems;

@@ -1,8 +1,10 @@
 //! The `homogenize` stage: a material card (hyperfoam, seed eq. 5.3, plus the Prony terms of
 //! `[viscoelastic]`, seed eq. 5.8) fitted to the tangent-modulus law (seed eq. 5.1) or to the
-//! discrete stage's compression curve ([`crate::homogenize`]). Writes `material.json` and
+//! discrete stage's compression curve ([`crate::homogenize`]; the branch files the discrete
+//! stage wrote into the output folder). Writes `material.json` and
 //! `material.inp` in the output folder, and the fit's own files under `homogenize/`.
 
+use super::discrete_stage::{LOADING_CSV, UNLOADING_CSV};
 use super::{StageContext, StageError, StageOutput};
 use crate::homogenize::{
     self, card::MaterialCard, tangent_law::TangentLaw, HomogenizeParams, Relaxation, Source,
@@ -38,12 +40,23 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             )
         }
         Curve::Loading | Curve::Unloading => {
-            return Err(failed(
-                "fitting the discrete stage's compression curve needs the discrete stage, \
-                 which is not available in this build; use curve = \"tangent-law\" or \
-                 `turf homogenize --curve data.csv`"
-                    .into(),
-            ))
+            if !ctx.previous.iter().any(|r| r.stage == Stage::Discrete) {
+                return Err(failed(
+                    "fitting the discrete stage's compression curve needs the discrete stage \
+                     to have run first"
+                        .into(),
+                ));
+            }
+            let file = match h.curve {
+                Curve::Loading => LOADING_CSV,
+                _ => UNLOADING_CSV,
+            };
+            let path = ctx.out_dir.join(file);
+            let curve = homogenize::read_curve(&path).map_err(|e| failed(e.to_string()))?;
+            Source::Curve {
+                curve,
+                name: format!("discrete stage, {file}"),
+            }
         }
     };
     let mut params = HomogenizeParams::new(source);

@@ -15,6 +15,7 @@
 //! when the run stopped early (`complete` says whether every stage ran).
 
 mod continuum_stage;
+mod discrete_stage;
 mod halfspace_stage;
 mod homogenize_stage;
 mod theory_stage;
@@ -33,6 +34,9 @@ pub struct StageContext<'a> {
     /// the stages already run for this scene, with their results (for hand-overs such as the
     /// discrete curve to the homogenize stage)
     pub previous: &'a [StageRecord],
+    /// the run's progress bar (on a terminal, not with --json): long stages report their
+    /// progress in its message
+    pub progress: Option<&'a indicatif::ProgressBar>,
 }
 
 /// What a stage returns: its answer and its cost.
@@ -87,8 +91,7 @@ pub struct StageRecord {
     pub files: Vec<String>,
 }
 
-/// Run the engine of `stage`. Each engine plugs in as one arm `Stage::X => x_stage::run(..)`;
-/// the stages listed together at the end have no engine in this build yet.
+/// Run the engine of `stage`. Each engine plugs in as one arm `Stage::X => x_stage::run(..)`.
 pub fn run_stage(
     stage: Stage,
     scene: &ResolvedScene,
@@ -99,7 +102,7 @@ pub fn run_stage(
         Stage::Halfspace => halfspace_stage::run(scene, ctx),
         Stage::Homogenize => homogenize_stage::run(scene, ctx),
         Stage::Continuum => continuum_stage::run(scene, ctx),
-        Stage::Discrete => Err(StageError::NotAvailable(stage)),
+        Stage::Discrete => discrete_stage::run(scene, ctx),
     }
 }
 
@@ -284,7 +287,7 @@ pub fn run_with(
                     None => stage.to_string(),
                 });
             }
-            let result = run_one(stage, scene, &dir, &done, runner);
+            let result = run_one(stage, scene, &dir, &done, bar.as_ref(), runner);
             if let Some(b) = &bar {
                 b.inc(1);
             }
@@ -331,11 +334,13 @@ fn run_one(
     scene: &ResolvedScene,
     dir: &Path,
     previous: &[StageRecord],
+    progress: Option<&indicatif::ProgressBar>,
     runner: &mut Runner,
 ) -> Result<StageRecord, StageError> {
     let ctx = StageContext {
         out_dir: dir,
         previous,
+        progress,
     };
     let start = Instant::now();
     let out = runner(stage, scene, &ctx)?;

@@ -1,0 +1,147 @@
+//! Analysis of a compression curve (issue 7, item 7; seed §2.4 eqs. 2.13–2.14, §5.1 eq. 5.1).
+//!
+//! From the loading (and unloading) branch of nominal stress σ against nominal strain ε:
+//!
+//! - the tangent modulus Eᵗ = Δσ/Δε between consecutive loading points, at the mid strains;
+//! - the fit of the tangent-modulus law (5.1), Eᵗ(ε) = E⁰e^(−ε/ε₀) + E^∞(1 − e^(−ε/ε₀)),
+//!   through [`crate::homogenize::tangent_law::fit_tangent_law`], giving E⁰, E^∞, ε₀;
+//! - the threshold stress, **defined as σ₀ = E⁰ε₀**: the stress at which the two linear regimes
+//!   of (5.1) meet — the initial line σ = E⁰ε and the large-strain asymptote
+//!   σ = E^∞ε + (E⁰ − E^∞)ε₀ intersect at ε = ε₀, σ = E⁰ε₀. Below σ₀ the turf is stiff (E⁰),
+//!   above it the tangent has fallen towards E^∞: the threshold of the seed's micromechanics;
+//! - the loading work W = ∫σ dε along loading and the hysteresis (W − W_unload)/W, the fraction
+//!   of the work not recovered on unloading (trapezoidal rule on the recorded steps).
+//!
+//! Works per unit volume are in GPa (= GJ/m³).
+
+use crate::homogenize::curve::StressStrainCurve;
+use crate::homogenize::tangent_law::{fit_tangent_law, TangentFitParams, TangentLawFit};
+
+/// One branch of the curve, strain ascending.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Branch {
+    /// nominal compressive strain
+    pub strain: Vec<f64>,
+    /// nominal compressive stress, GPa
+    pub stress: Vec<f64>,
+}
+
+impl Branch {
+    /// ∫σ dε over the branch (trapezoidal), GPa.
+    pub fn work(&self) -> f64 {
+        self.strain
+            .windows(2)
+            .zip(self.stress.windows(2))
+            .map(|(e, s)| 0.5 * (s[0] + s[1]) * (e[1] - e[0]))
+            .sum()
+    }
+
+    /// Tangent moduli Δσ/Δε (GPa) at the mid strains of consecutive points.
+    pub fn tangent(&self) -> Vec<(f64, f64)> {
+        self.strain
+            .windows(2)
+            .zip(self.stress.windows(2))
+            .map(|(e, s)| (0.5 * (e[0] + e[1]), (s[1] - s[0]) / (e[1] - e[0])))
+            .collect()
+    }
+}
+
+/// The analysed curve.
+#[derive(Debug, Clone)]
+pub struct CurveAnalysis {
+    /// loading branch
+    pub loading: Branch,
+    /// unloading branch (strain ascending), if unloaded
+    pub unloading: Option<Branch>,
+    /// largest stress on loading, GPa
+    pub peak_stress: f64,
+    /// ∫σ dε on loading, GPa
+    pub loading_work: f64,
+    /// ∫σ dε on unloading, GPa
+    pub unloading_work: Option<f64>,
+    /// fit of (5.1) to the loading branch, or why it failed
+    pub fit: Result<TangentLawFit, String>,
+}
+
+impl CurveAnalysis {
+    /// Analyse the branches (each strain ascending; the unloading one as recorded, reversed).
+    pub fn new(loading: Branch, unloading: Option<Branch>) -> Self {
+        let peak_stress = loading.stress.iter().copied().fold(0.0, f64::max);
+        let loading_work = loading.work();
+        let unloading_work = unloading.as_ref().map(Branch::work);
+        let fit = StressStrainCurve::new(
+            loading.strain.clone(),
+            loading.stress.clone(),
+            None,
+            "the discrete loading curve",
+        )
+        .map_err(|e| e.to_string())
+        .and_then(|c| fit_tangent_law(&c, &TangentFitParams::default()).map_err(|e| e.to_string()));
+        CurveAnalysis {
+            loading,
+            unloading,
+            peak_stress,
+            loading_work,
+            unloading_work,
+            fit,
+        }
+    }
+
+    /// Threshold stress σ₀ = E⁰ε₀ of the fitted (5.1), GPa (see the module doc).
+    pub fn threshold_stress(&self) -> Option<f64> {
+        self.fit.as_ref().ok().map(|f| f.law.e0 * f.law.eps0)
+    }
+
+    /// Fraction of the loading work not recovered on unloading, (W − W_u)/W.
+    pub fn hysteresis(&self) -> Option<f64> {
+        match self.unloading_work {
+            Some(wu) if self.loading_work > 0.0 => {
+                Some((self.loading_work - wu) / self.loading_work)
+            }
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::homogenize::tangent_law::TangentLaw;
+
+    /// The (5.1) fit of exact law samples recovers the constants to the solver's tolerance.
+    const FIT_TOL: f64 = 1e-6;
+
+    #[test]
+    fn a_curve_sampled_from_the_law_gives_back_its_constants_and_threshold() {
+        let law = TangentLaw::new(0.7, 0.07, 0.08).unwrap();
+        let strain: Vec<f64> = (0..=30).map(|k| 0.01 * k as f64).collect();
+        let stress = strain.iter().map(|&e| law.stress(e)).collect();
+        let a = CurveAnalysis::new(Branch { strain, stress }, None);
+        let fit = a.fit.as_ref().unwrap();
+        assert!((fit.law.e0 / 0.7 - 1.0).abs() < FIT_TOL);
+        assert!((fit.law.eps0 / 0.08 - 1.0).abs() < FIT_TOL);
+        assert!((a.threshold_stress().unwrap() / (0.7 * 0.08) - 1.0).abs() < 2.0 * FIT_TOL);
+        assert!(a.hysteresis().is_none());
+        // the tangent falls
+        let t = a.loading.tangent();
+        assert!(t.first().unwrap().1 > 5.0 * t.last().unwrap().1);
+    }
+
+    #[test]
+    fn work_and_hysteresis_by_trapezoids() {
+        // loading σ = ε on [0, 1] (W = 1/2), unloading σ = ε² sampled exactly at 0, ½, 1
+        let loading = Branch {
+            strain: vec![0.0, 0.5, 1.0],
+            stress: vec![0.0, 0.5, 1.0],
+        };
+        let unloading = Branch {
+            strain: vec![0.0, 0.5, 1.0],
+            stress: vec![0.0, 0.25, 1.0],
+        };
+        let a = CurveAnalysis::new(loading, Some(unloading));
+        assert_eq!(a.loading_work, 0.5);
+        // trapezoids of ε²: ½·½·¼ + ½·½·(¼ + 1) = 0.375
+        assert_eq!(a.unloading_work, Some(0.375));
+        assert_eq!(a.hysteresis(), Some(0.25));
+    }
+}

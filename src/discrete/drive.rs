@@ -1,0 +1,158 @@
+//! Quasi-static platen compression of the turf (issue 7, item 6; seed §2.4 and ch. 5: the
+//! compressive stress–strain curve that homogenisation turns into a card).
+//!
+//! The platen starts at the top of the relaxed turf, H₀ = max(z + r) over the free nodes, and
+//! moves to H_k = H₀(1 − ε_k), ε_k = ε_max k/n for k = 1 … n, then (when unloading) back along
+//! the same strains to ε = 0. Each step is a static equilibrium ([`StaticSolver`]) warm-started
+//! from the previous one; before the solve, nodes the platen has overtaken are put back just
+//! under it (a feasible start, so the penalty starts at zero). Recorded per step: nominal
+//! strain ε = (H₀ − H)/H₀, the platen force F = −∂E/∂H and the nominal stress σ = F/A (A the
+//! box area), the energy split, the contacts, the solver's cost.
+
+use super::model::{State, StaticSolver, TurfSystem};
+use super::solve::{Cost, SolveError};
+use serde::Serialize;
+
+/// The strain path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CompressionParams {
+    /// final nominal compressive strain, in (0, 1)
+    pub strain_max: f64,
+    /// steps to reach it (≥ 1)
+    pub steps: usize,
+    /// also unload back to zero strain in as many steps
+    pub unload: bool,
+}
+
+/// One equilibrium of the drive.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StepRecord {
+    /// step index, 0 = the relaxed turf at the platen's first touch
+    pub step: usize,
+    /// true on the way down (and at step 0), false on the way back
+    pub loading: bool,
+    /// nominal compressive strain (H₀ − H)/H₀
+    pub strain: f64,
+    /// platen height H, nm
+    pub height: f64,
+    /// nominal compressive stress F/A, GPa
+    pub stress: f64,
+    /// energies, contacts, platen force at equilibrium
+    pub state: State,
+    /// what the step's solve cost (zero at step 0)
+    #[serde(skip)]
+    pub cost: Cost,
+}
+
+/// Why the drive stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum DriveError {
+    /// a bad strain path
+    #[error("compression: {0}")]
+    Invalid(String),
+    /// a step did not reach equilibrium
+    #[error("compression step {step} (strain {strain:.4}): {source}")]
+    Step {
+        /// the step
+        step: usize,
+        /// its target strain
+        strain: f64,
+        /// the solver's diagnostics
+        source: SolveError,
+    },
+}
+
+/// The strains of the path, step 0 (ε = 0) first; `true` while loading.
+pub fn strain_path(p: &CompressionParams) -> Vec<(f64, bool)> {
+    let n = p.steps;
+    let mut path: Vec<(f64, bool)> = (0..=n)
+        .map(|k| (p.strain_max * k as f64 / n as f64, true))
+        .collect();
+    if p.unload {
+        path.extend(
+            (0..n)
+                .rev()
+                .map(|k| (p.strain_max * k as f64 / n as f64, false)),
+        );
+    }
+    path
+}
+
+/// Compress the relaxed turf at `x` (nm; the final configuration on return) along `params`,
+/// solving each step with `solver`. `observe` sees every step's record and configuration as it
+/// is reached (progress, VTK output). Returns the records, step 0 first.
+pub fn compress(
+    sys: &mut TurfSystem,
+    x: &mut [f64],
+    params: &CompressionParams,
+    solver: &StaticSolver,
+    observe: &mut dyn FnMut(&StepRecord, &[f64]),
+) -> Result<Vec<StepRecord>, DriveError> {
+    if !(params.strain_max > 0.0 && params.strain_max < 1.0) || params.steps == 0 {
+        return Err(DriveError::Invalid(format!(
+            "strain {} must be in (0, 1) and steps {} at least 1",
+            params.strain_max, params.steps
+        )));
+    }
+    let h0 = sys.height(x);
+    let mut records = Vec::new();
+    for (step, (strain, loading)) in strain_path(params).into_iter().enumerate() {
+        let h = h0 * (1.0 - strain);
+        sys.set_platen(h);
+        let cost = if step == 0 {
+            Cost::default()
+        } else {
+            push_below(sys, x, h);
+            sys.solve(x, solver)
+                .map_err(|source| DriveError::Step {
+                    step,
+                    strain,
+                    source,
+                })?
+                .cost
+        };
+        let state = sys.state(x);
+        let rec = StepRecord {
+            step,
+            loading,
+            strain,
+            height: h,
+            stress: state.platen_force / sys.area,
+            state,
+            cost,
+        };
+        observe(&rec, x);
+        records.push(rec);
+    }
+    Ok(records)
+}
+
+/// Predictor: free nodes above the platen at `h` are moved down to just touch it.
+fn push_below(sys: &TurfSystem, x: &mut [f64], h: f64) {
+    for &(n, r) in &sys.wall_nodes {
+        let z = &mut x[3 * n + 2];
+        *z = z.min(h - r);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_path_loads_and_unloads_on_the_same_strains() {
+        let p = CompressionParams {
+            strain_max: 0.3,
+            steps: 3,
+            unload: true,
+        };
+        let path = strain_path(&p);
+        let strains: Vec<f64> = path.iter().map(|s| s.0).collect();
+        let expect = [0.0, 0.1, 0.2, 0.3, 0.2, 0.1, 0.0];
+        assert_eq!(strains.len(), expect.len());
+        for (a, b) in strains.iter().zip(expect) {
+            assert!((a - b).abs() < 1e-15);
+        }
+        assert_eq!(path.iter().filter(|s| s.1).count(), 4);
+    }
+}

@@ -1,0 +1,535 @@
+//! The `discrete` stage. `[rods]`: explicit rods in equilibrium under their end loads (tip
+//! displacements, node positions as `discrete_rods_nodes.csv`). `[turf]`: a turf generated, relaxed (contacts form, E = U − Γ of seed eq.
+//! 1.1) and compressed by the `[compression]` platen to the scene's strain and back
+//! ([`crate::discrete`]); the curve analysed (σ₀, the tangent law (5.1), hysteresis).
+//!
+//! Writes `stress_strain.csv` (every step: strain, stress_GPa, energies, contacts, cost),
+//! `stress_strain_loading.csv` and `stress_strain_unloading.csv` (strain ascending, the curves
+//! the homogenize stage fits), `discrete_analysis.json` (the fit or why it failed), the
+//! tangent moduli as `discrete_tangent.csv`, plots under `plots/`, and, with `[output] vtk`,
+//! the tubes as VTK polylines at the relaxed state, the peak strain and the end
+//! (`vtk/discrete_step_NNN.vtu`).
+
+use super::{StageContext, StageError, StageOutput};
+use crate::discrete::analysis::{Branch, CurveAnalysis};
+use crate::discrete::broadphase::PeriodicBox;
+use crate::discrete::drive::{compress, CompressionParams, StepRecord};
+use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
+use crate::discrete::model::{relax, StaticSolver, TurfSystem};
+use crate::discrete::platen::DEFAULT_WALL_STIFFNESS;
+use crate::discrete::rod::RodStiffness;
+use crate::discrete::solve_fire::FireParams;
+use crate::discrete::solve_newton::minimize_newton;
+use crate::discrete::solve_newton::NewtonParams;
+use crate::discrete::turf::{generate_turf, TurfParams};
+use crate::discrete::vdw::VdwParams;
+use crate::discrete::vdw_term::TubeLayout;
+use crate::report::csv::Table;
+use crate::report::plot::{Plot, Series};
+use crate::report::vtk::{CellKind, DataArray, Grid};
+use crate::report::{write_json, ReportError};
+use crate::scene::compression::{Compression, DiscreteSolver, Platen};
+use crate::scene::rods::End;
+use crate::scene::{ResolvedScene, Stage};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// Segments per tube when `[turf.tube] segment` is not given (the scene reference's default).
+const DEFAULT_SEGMENTS_PER_TUBE: f64 = 20.0;
+
+/// File names of the branches handed to the homogenize stage.
+pub(super) const LOADING_CSV: &str = "stress_strain_loading.csv";
+/// See [`LOADING_CSV`].
+pub(super) const UNLOADING_CSV: &str = "stress_strain_unloading.csv";
+
+fn failed(message: String) -> StageError {
+    StageError::Failed {
+        stage: Stage::Discrete,
+        message,
+    }
+}
+
+fn report(source: ReportError) -> StageError {
+    StageError::Report {
+        stage: Stage::Discrete,
+        source,
+    }
+}
+
+/// Run the stage.
+pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
+    let s = &scene.scene;
+    if let Some(r) = &s.rods {
+        if s.compression.is_some() {
+            return Err(failed(
+                "[rods] with [compression] is not built: explicit rods are solved under their \
+                 end loads"
+                    .into(),
+            ));
+        }
+        return run_rods(r, s.output.vtk, ctx);
+    }
+    let (Some(t), Some(k)) = (&s.turf, &s.compression) else {
+        return Err(failed("needs [turf] and [compression]".into()));
+    };
+    if k.platen == Platen::Bonded {
+        return Err(failed(
+            "compression.platen = \"bonded\" is not built: the platen is frictionless".into(),
+        ));
+    }
+    let mut turf =
+        generate_turf(&turf_params(t, s.scene.seed)).map_err(|e| failed(e.to_string()))?;
+    if !t.periodic {
+        turf.periodic = PeriodicBox::default();
+    }
+    let vdw = t.vdw.as_ref().map(vdw_params).transpose()?;
+    let area = t.box_size[0].0 * t.box_size[1].0;
+    let mut sys = TurfSystem::from_turf(
+        &turf,
+        t.tube.youngs.0,
+        vdw.as_ref(),
+        DEFAULT_WALL_STIFFNESS,
+        area,
+    )
+    .map_err(|e| failed(e.to_string()))?;
+    let solver = static_solver(k);
+    let mut x = turf.coordinates();
+
+    if let Some(bar) = ctx.progress {
+        bar.set_message("discrete: relaxing the turf");
+    }
+    let relaxed = relax(&mut sys, &mut x, &solver)
+        .map_err(|e| failed(format!("relaxation of the generated turf: {e}")))?;
+    if relaxed.state.min_gap < 0.0 {
+        return Err(failed(format!(
+            "the generated turf has interpenetrating tubes that the relaxation did not separate \
+             (smallest surface gap {:.3} nm; {} contacts, van der Waals energy {:.4e} aJ): the \
+             generator places the bases without overlap but not the tubes along their length — \
+             lower turf.growth.tilt, waviness or the density",
+            relaxed.state.min_gap, relaxed.state.contacts, relaxed.state.energy.vdw
+        )));
+    }
+    let params = CompressionParams {
+        strain_max: k.to.0,
+        steps: k.steps,
+        unload: k.unload,
+    };
+    let vtk_steps = [0, k.steps, if k.unload { 2 * k.steps } else { k.steps }];
+    let mut vtk_files: Vec<PathBuf> = Vec::new();
+    let mut vtk_error = None;
+    let total = if k.unload { 2 * k.steps } else { k.steps };
+    let mut observe = |rec: &StepRecord, xs: &[f64]| {
+        if let Some(bar) = ctx.progress {
+            bar.set_message(format!(
+                "discrete: step {}/{total}, strain {:.3}, stress {:.3e} GPa",
+                rec.step, rec.strain, rec.stress
+            ));
+        }
+        if s.output.vtk && vtk_steps.contains(&rec.step) && vtk_error.is_none() {
+            let rel = PathBuf::from(format!("vtk/discrete_step_{:03}.vtu", rec.step));
+            match polylines(&turf.layout(), xs).write(&ctx.out_dir.join(&rel)) {
+                Ok(()) => vtk_files.push(rel),
+                Err(e) => vtk_error = Some(e),
+            }
+        }
+    };
+    let records = compress(&mut sys, &mut x, &params, &solver, &mut observe)
+        .map_err(|e| failed(e.to_string()))?;
+    if let Some(e) = vtk_error {
+        return Err(report(e));
+    }
+    let analysis = analyse(&records);
+
+    let mut files = vtk_files;
+    let steps = steps_table(&records);
+    steps
+        .write(&ctx.out_dir.join("stress_strain.csv"))
+        .map_err(report)?;
+    files.push("stress_strain.csv".into());
+    branch_table(&analysis.loading)
+        .write(&ctx.out_dir.join(LOADING_CSV))
+        .map_err(report)?;
+    files.push(LOADING_CSV.into());
+    if let Some(u) = &analysis.unloading {
+        branch_table(u)
+            .write(&ctx.out_dir.join(UNLOADING_CSV))
+            .map_err(report)?;
+        files.push(UNLOADING_CSV.into());
+    }
+    write_json(
+        &ctx.out_dir.join("discrete_analysis.json"),
+        &analysis_json(&analysis),
+    )
+    .map_err(report)?;
+    files.push("discrete_analysis.json".into());
+    if s.output.plots {
+        files.extend(write_plots(&analysis, &records, ctx)?);
+    }
+
+    let mut values = BTreeMap::new();
+    let mut put = |name: &str, v: f64| {
+        values.insert(name.to_string(), v);
+    };
+    put("tubes", turf.tubes.len() as f64);
+    put("segments", sys.model.rods.segments() as f64);
+    put("box_area_nm2", area);
+    let b0 = relaxed.initial.energy.balance();
+    let b = relaxed.balance();
+    put("generated_elastic_aJ", b0.elastic);
+    put("generated_contact_aJ", b0.contact);
+    put("generated_contacts", relaxed.initial.contacts as f64);
+    put("relaxed_elastic_aJ", b.elastic);
+    put("relaxed_bending_aJ", relaxed.state.energy.bending);
+    put("relaxed_stretching_aJ", relaxed.state.energy.stretching);
+    put("relaxed_contact_aJ", b.contact);
+    put("relaxed_total_aJ", b.total);
+    put("relaxed_contacts", relaxed.state.contacts as f64);
+    if relaxed.state.min_gap.is_finite() {
+        put("relaxed_min_gap_nm", relaxed.state.min_gap);
+    }
+    put("relaxation_iterations", relaxed.info.cost.iterations as f64);
+    put("wall_time_relaxation_s", relaxed.info.cost.seconds);
+    put("turf_height_nm", records[0].height);
+    put("peak_stress_GPa", analysis.peak_stress);
+    put("loading_work_GPa", analysis.loading_work);
+    if let Some(w) = analysis.unloading_work {
+        put("unloading_work_GPa", w);
+    }
+    if let Some(h) = analysis.hysteresis() {
+        put("hysteresis", h);
+    }
+    if let Ok(f) = &analysis.fit {
+        put("tangent_e0_GPa", f.law.e0);
+        put("tangent_e_inf_GPa", f.law.e_inf);
+        put("tangent_eps0", f.law.eps0);
+        put("tangent_fit_rms_rel", f.rms_rel);
+    }
+    if let Some(s0) = analysis.threshold_stress() {
+        put("sigma0_GPa", s0);
+    }
+    let peak = &records[k.steps];
+    put("contacts_at_peak", peak.state.contacts as f64);
+    put(
+        "wall_time_compression_s",
+        records.iter().map(|r| r.cost.seconds).sum(),
+    );
+    put(
+        "compression_iterations",
+        records.iter().map(|r| r.cost.iterations).sum::<usize>() as f64,
+    );
+    let evaluations = relaxed.info.cost.gradient_evaluations
+        + records
+            .iter()
+            .map(|r| r.cost.gradient_evaluations)
+            .sum::<usize>();
+    Ok(StageOutput {
+        values,
+        tables: vec![("tangent".into(), tangent_table(&analysis.loading))],
+        evaluations: evaluations as u64,
+        files,
+    })
+}
+
+/// `[rods]`: the rods in equilibrium under their end loads (Newton, default tolerances).
+fn run_rods(
+    r: &crate::scene::rods::Rods,
+    vtk: bool,
+    ctx: &StageContext,
+) -> Result<StageOutput, StageError> {
+    let specs: Vec<RodSpec> = r
+        .rod
+        .iter()
+        .map(|rod| RodSpec {
+            points: rod.points.iter().map(|p| p.map(|c| c.0)).collect(),
+            ends: rod.ends.map(|e| match e {
+                End::Clamped => EndCondition::Clamped,
+                End::Pinned => EndCondition::Pinned,
+                End::Free => EndCondition::Free,
+            }),
+            load: rod.load.map(|f| f.map(|c| c.0)),
+            segments: rod.segments,
+        })
+        .collect();
+    let stiffness = RodStiffness::hollow_tube(r.tube.youngs.0, r.tube.r_o.0, r.tube.r_i.0);
+    let vdw = r.vdw.as_ref().map(vdw_params).transpose()?;
+    let mut rods = ExplicitRods::new(&specs, stiffness, r.tube.r_o.0, vdw.as_ref())
+        .map_err(|e| failed(e.to_string()))?;
+    let mut x = rods.x0.clone();
+    let info = minimize_newton(
+        &mut rods.model,
+        &rods.fixed,
+        &mut x,
+        &NewtonParams::default(),
+    )
+    .map_err(|e| failed(format!("equilibrium of the rods: {e}")))?;
+    let mut values = BTreeMap::from([
+        ("energy_aJ".to_string(), info.energy),
+        ("residual_nN".to_string(), info.residual),
+        ("newton_iterations".to_string(), info.cost.iterations as f64),
+        ("wall_time_solve_s".to_string(), info.cost.seconds),
+        ("bending_stiffness_nN_nm2".to_string(), stiffness.bending),
+    ]);
+    let (mut rod_col, mut node_col) = (Vec::new(), Vec::new());
+    let mut pos = [Vec::new(), Vec::new(), Vec::new()];
+    for (i, l) in rods.layout.iter().enumerate() {
+        let last = l.first_node + l.nodes - 1;
+        for (a, name) in ["dx", "dy", "dz"].iter().enumerate() {
+            let d = x[3 * last + a] - rods.x0[3 * last + a];
+            values.insert(format!("rod{i}_tip_{name}_nm"), d);
+        }
+        values.insert(
+            format!("rod{i}_length_nm"),
+            rods.model.rods.rods()[i].rest_length(),
+        );
+        for n in l.first_node..=last {
+            rod_col.push(i as f64);
+            node_col.push((n - l.first_node) as f64);
+            for (a, p) in pos.iter_mut().enumerate() {
+                p.push(x[3 * n + a]);
+            }
+        }
+    }
+    let [px, py, pz] = pos;
+    let nodes = Table::new()
+        .column("rod", rod_col)
+        .column("node", node_col)
+        .column("x_nm", px)
+        .column("y_nm", py)
+        .column("z_nm", pz);
+    let mut files = Vec::new();
+    if vtk {
+        let rel = PathBuf::from("vtk/discrete_rods.vtu");
+        polylines(&rods.layout, &x)
+            .write(&ctx.out_dir.join(&rel))
+            .map_err(report)?;
+        files.push(rel);
+    }
+    Ok(StageOutput {
+        values,
+        tables: vec![("rods_nodes".into(), nodes)],
+        evaluations: info.cost.gradient_evaluations as u64,
+        files,
+    })
+}
+
+/// The `[turf]` section as generation parameters (no radius scatter: the scene has none).
+fn turf_params(t: &crate::scene::turf::Turf, seed: u64) -> TurfParams {
+    let g = &t.growth;
+    TurfParams {
+        density: t.density.0,
+        box_x: t.box_size[0].0,
+        box_y: t.box_size[1].0,
+        radius_outer: t.tube.r_o.0,
+        radius_inner: t.tube.r_i.0,
+        radius_cv: 0.0,
+        length_mean: g.length.0,
+        length_cv: g.length_spread.0,
+        tilt_spread: g.tilt.0,
+        wave_amplitude: g.waviness.0,
+        // a straight tube (waviness 0) ignores the wavelength
+        wave_length: g.wavelength.map_or(g.length.0, |w| w.0),
+        segment_length: t
+            .tube
+            .segment
+            .map_or(g.length.0 / DEFAULT_SEGMENTS_PER_TUBE, |l| l.0),
+        seed,
+    }
+}
+
+/// `[turf.vdw]` as interaction parameters: γ_L at the scene's tube radius, the equilibrium
+/// gap, the cutoff; the smooth switch-off starts at the engine's default gap (1 nm) or, for a
+/// shorter cutoff, half-way between the equilibrium gap and the cutoff.
+fn vdw_params(v: &crate::scene::turf::Vdw) -> Result<VdwParams, StageError> {
+    let d = VdwParams::default();
+    let cut = v.cutoff.map_or(d.gap_cut, |c| c.0);
+    let gap = v.separation.0;
+    let p = VdwParams {
+        gamma_l: v.gamma_line.0,
+        gap_eq: gap,
+        gap_cut: cut,
+        gap_switch: d.gap_switch.min(0.5 * (gap + cut)),
+        ..d
+    };
+    p.validate().map_err(|e| failed(e.to_string()))?;
+    Ok(p)
+}
+
+/// The scene's solver with its tolerance (absolute, nN) and iteration limit.
+fn static_solver(k: &Compression) -> StaticSolver {
+    match k.solver {
+        DiscreteSolver::Fire => StaticSolver::Fire(FireParams {
+            tol_abs: k.tolerance.0,
+            tol_rel: 0.0,
+            max_iterations: k.max_iterations,
+            ..FireParams::default()
+        }),
+        DiscreteSolver::Newton => StaticSolver::Newton(NewtonParams {
+            tol_abs: k.tolerance.0,
+            tol_rel: 0.0,
+            max_iterations: k.max_iterations,
+            ..NewtonParams::default()
+        }),
+    }
+}
+
+/// Loading (step 0 to the peak) and unloading (peak to the end, reversed to ascending strain).
+fn analyse(records: &[StepRecord]) -> CurveAnalysis {
+    let branch = |it: &mut dyn Iterator<Item = &StepRecord>| {
+        let (strain, stress) = it.map(|r| (r.strain, r.stress)).unzip();
+        Branch { strain, stress }
+    };
+    let peak = records.iter().filter(|r| r.loading).count();
+    let loading = branch(&mut records[..peak].iter());
+    let unloading = (records.len() > peak).then(|| branch(&mut records[peak - 1..].iter().rev()));
+    CurveAnalysis::new(loading, unloading)
+}
+
+fn steps_table(records: &[StepRecord]) -> Table {
+    let col = |f: &dyn Fn(&StepRecord) -> f64| records.iter().map(f).collect::<Vec<f64>>();
+    Table::new()
+        .column("step", col(&|r| r.step as f64))
+        .column("loading", col(&|r| if r.loading { 1.0 } else { 0.0 }))
+        .column("strain", col(&|r| r.strain))
+        .column("stress_GPa", col(&|r| r.stress))
+        .column("platen_height_nm", col(&|r| r.height))
+        .column("platen_force_nN", col(&|r| r.state.platen_force))
+        .column("bending_aJ", col(&|r| r.state.energy.bending))
+        .column("stretching_aJ", col(&|r| r.state.energy.stretching))
+        .column("vdw_aJ", col(&|r| r.state.energy.vdw))
+        .column("walls_aJ", col(&|r| r.state.energy.walls))
+        .column("contacts", col(&|r| r.state.contacts as f64))
+        .column("platen_nodes", col(&|r| r.state.platen_nodes as f64))
+        .column("iterations", col(&|r| r.cost.iterations as f64))
+        .column("solve_s", col(&|r| r.cost.seconds))
+}
+
+fn branch_table(b: &Branch) -> Table {
+    Table::new()
+        .column("strain", b.strain.clone())
+        .column("stress_GPa", b.stress.clone())
+}
+
+fn tangent_table(b: &Branch) -> Table {
+    let (strain, modulus) = b.tangent().into_iter().unzip();
+    Table::new()
+        .column("strain", strain)
+        .column("tangent_GPa", modulus)
+}
+
+fn analysis_json(a: &CurveAnalysis) -> serde_json::Value {
+    let fit = match &a.fit {
+        Ok(f) => serde_json::json!({
+            "e0_GPa": f.law.e0,
+            "e_inf_GPa": f.law.e_inf,
+            "eps0": f.law.eps0,
+            "std_errors": f.std_errors,
+            "rms_rel": f.rms_rel,
+        }),
+        Err(e) => serde_json::json!({ "error": e }),
+    };
+    serde_json::json!({
+        "tangent_law_fit": fit,
+        "sigma0_GPa": a.threshold_stress(),
+        "sigma0_definition": "E0 * eps0 of the fitted tangent law (5.1): the stress where the initial line E0*eps meets the large-strain asymptote",
+        "peak_stress_GPa": a.peak_stress,
+        "loading_work_GPa": a.loading_work,
+        "unloading_work_GPa": a.unloading_work,
+        "hysteresis": a.hysteresis(),
+    })
+}
+
+fn write_plots(
+    a: &CurveAnalysis,
+    records: &[StepRecord],
+    ctx: &StageContext,
+) -> Result<Vec<PathBuf>, StageError> {
+    let dir = ctx.out_dir.join("plots");
+    let mut stress =
+        Plot::new("Turf compression", "nominal strain", "nominal stress (GPa)").with(Series::line(
+            "loading",
+            a.loading.strain.clone(),
+            a.loading.stress.clone(),
+        ));
+    if let Some(u) = &a.unloading {
+        stress = stress.with(Series::dashed(
+            "unloading",
+            u.strain.clone(),
+            u.stress.clone(),
+        ));
+    }
+    let (te, tm): (Vec<f64>, Vec<f64>) = a.loading.tangent().into_iter().unzip();
+    let mut tangent = Plot::new("Tangent modulus", "nominal strain", "tangent modulus (GPa)")
+        .with(Series::points("discrete", te.clone(), tm));
+    if let Ok(f) = &a.fit {
+        let fit = te.iter().map(|&e| f.law.tangent(e)).collect();
+        tangent = tangent.with(Series::line("fit of (5.1)", te, fit));
+    }
+    let strain: Vec<f64> = records.iter().map(|r| r.strain).collect();
+    let col = |f: &dyn Fn(&StepRecord) -> f64| records.iter().map(f).collect::<Vec<f64>>();
+    let energy = Plot::new(
+        "Energy split",
+        "nominal strain (loading, then unloading)",
+        "energy (aJ)",
+    )
+    .with(Series::points(
+        "bending",
+        strain.clone(),
+        col(&|r| r.state.energy.bending),
+    ))
+    .with(Series::points(
+        "stretching",
+        strain.clone(),
+        col(&|r| r.state.energy.stretching),
+    ))
+    .with(Series::points(
+        "contact Γ = −vdW",
+        strain.clone(),
+        col(&|r| -r.state.energy.vdw),
+    ));
+    let contacts = Plot::new("Contacts", "nominal strain", "segment pairs in contact").with(
+        Series::points("contacts", strain, col(&|r| r.state.contacts as f64)),
+    );
+    let mut files = Vec::new();
+    for (plot, stem) in [
+        (stress, "discrete_stress_strain"),
+        (tangent, "discrete_tangent"),
+        (energy, "discrete_energy"),
+        (contacts, "discrete_contacts"),
+    ] {
+        plot.write(&dir, stem).map_err(report)?;
+        files.push(format!("plots/{stem}.svg").into());
+        files.push(format!("plots/{stem}.png").into());
+    }
+    Ok(files)
+}
+
+/// The tubes at configuration `x` as VTK polylines, with the tube index and radius per cell.
+fn polylines(layout: &[TubeLayout], x: &[f64]) -> Grid {
+    let points = x.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    let cells = layout
+        .iter()
+        .map(|l| {
+            (
+                CellKind::PolyLine,
+                (l.first_node..l.first_node + l.nodes).collect(),
+            )
+        })
+        .collect();
+    Grid {
+        points,
+        cells,
+        point_data: Vec::new(),
+        cell_data: vec![
+            DataArray {
+                name: "tube".into(),
+                components: 1,
+                values: (0..layout.len()).map(|i| i as f64).collect(),
+            },
+            DataArray {
+                name: "radius_nm".into(),
+                components: 1,
+                values: layout.iter().map(|l| l.radius).collect(),
+            },
+        ],
+    }
+}
