@@ -19,19 +19,20 @@
 //!
 //! **Discretisation.** Piecewise-constant ring pressures on a graded radial grid ([`grid`]),
 //! collocated at the nodes, with exact ring influence coefficients from complete elliptic
-//! integrals ([`influence`], [`elliptic`]). The domain is truncated where the neglected
-//! attractive tail carries a load below `Params::tail_tolerance`; the remaining tail (estimated as
-//! 2φ̄(H) at the outer edge) is reported.
+//! integrals ([`influence`], [`elliptic`]). The grid is fine over the contact edge (a window that
+//! moves with it at large μ, rebuilt as the edge moves) and wherever the gap is small. The domain
+//! is truncated where the neglected attractive tail carries a load below
+//! `Params::tail_tolerance`; the remaining tail (estimated as 2φ̄(H) at the outer edge) is
+//! reported.
 //!
-//! **Solution.** Newton on the bordered system (gaps H_i and the approach D) at a prescribed
-//! central gap H(0) ([`solve`]); continuation in H(0), which is monotonic along the whole S-curve,
-//! traces it through both turning points in D ([`curve`]). Pull-off (the minimum load, i.e. the
-//! load-control pull-off) and the jump points (turning points of D: jump-in on approach and
-//! jump-out on retraction under displacement control) are located by the secant (Illinois)
-//! method on dF̄/dH(0) and dD/dH(0) (dF̄/dD on refined grids), computed exactly from the tangent
-//! of the solution path. Where |dD/dH(0)| > 1 the corrector prescribes D instead of H(0).
-//! [`refinement`] repeats the pull-off on three grids that halve every cell and reports a
-//! Richardson error estimate.
+//! **Solution.** Newton on the bordered system (gaps H_i and the approach D) with a last
+//! equation that prescribes H(0), D or a pseudo-arclength step ([`solve`]); pseudo-arclength
+//! (Keller) continuation traces the whole S-curve through every fold of D, of the load and of
+//! H(0) ([`curve`]). Pull-off (the last load minimum, i.e. the load-control pull-off) and the
+//! jump points (first maximum and last minimum of D: jump-in on approach and jump-out on
+//! retraction under displacement control) are located by the secant (Illinois) method on dF̄/ds
+//! and dD/ds, computed exactly from the unit tangent of the solution path. [`refinement`] repeats
+//! the pull-off on three grids that halve every cell and reports a Richardson error estimate.
 //!
 //! **Contact radius** is defined as the outermost radius where h = z₀ (where p changes sign from
 //! repulsive to attractive), linearly interpolated between nodes; 0 while h(0) > z₀.

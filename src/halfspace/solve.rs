@@ -1,18 +1,18 @@
-//! Newton's method for the discretised half-space at a prescribed central gap.
+//! Newton's method for the discretised half-space under a bordering (control) equation.
 //!
 //! Unknowns x = (H₀ … H_{N−1}, D): the nodal gaps and the approach. Residuals
 //!
-//! R_i = H_i + D − ρ_i²/2 − Σ_j A_ij P̄(H_j)   (i < N),   R_N = H₀ − H₀\*  (or D − D\*),
+//! R_i = H_i + D − ρ_i²/2 − Σ_j A_ij P̄(H_j)   (i < N),   R_N = H₀ − H₀\*, D − D\*, or τ·(x − x₀) − Δs,
 //!
-//! with the exact Jacobian ∂R_i/∂H_j = δ_ij − A_ij k̄(H_j), ∂R_i/∂D = 1, ∂R_N/∂H₀ = 1 (a bordered
-//! dense system, factorised by faer's partial-pivoting LU). The last row prescribes either the
-//! central gap (continuation, [`Control::CentralGap`]) or the approach
-//! ([`Control::Approach`], used to move a stable solution onto another grid, where H₀ is far
-//! more sensitive to the discretisation than D on the contact branch). The bordering row makes the system
-//! regular at the turning points in D, so the same solve works on the unstable branch of the
-//! S-curve. The tangent of the solution path, dx/dH₀\* = J⁻¹ e_N, gives the predictor for
-//! continuation and the exact slopes dD/dH₀ and dF̄/dH₀ = Σ_j w_j k̄_j dH_j/dH₀ used to locate
-//! jump points and pull-off.
+//! with the exact Jacobian ∂R_i/∂H_j = δ_ij − A_ij k̄(H_j), ∂R_i/∂D = 1, and a last row that
+//! prescribes the central gap ([`Control::CentralGap`]), the approach ([`Control::Approach`],
+//! used to move a stable solution onto another grid, where H₀ is far more sensitive to the
+//! discretisation than D on the contact branch) or a pseudo-arclength step
+//! ([`Control::Arc`], continuation). The bordered dense system is factorised by faer's
+//! partial-pivoting LU (it is indefinite). The unit tangent of the solution path is the null
+//! vector of the N×(N+1) equilibrium Jacobian, from the same bordered system with an orientation
+//! vector as last row; it gives the predictor and the exact slopes dD/ds and
+//! dF̄/ds = Σ_j w_j k̄_j dH_j/ds used to locate jump points and pull-off.
 //!
 //! The collocation system is not symmetric (ring-averaged displacements would be), so it is not
 //! the gradient of a discrete energy; the Jacobian is the exact derivative of the residual
