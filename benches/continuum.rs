@@ -8,7 +8,7 @@ use turf::continuum::{run_indent, IndentParams, Segment};
 
 fn params() -> IndentParams {
     let mut p = IndentParams::hertz_example();
-    p.mesh.elements_per_radius = 80.0;
+    p.mesh.elements_per_radius = 75.0; // ≈ 30k elements on the default 200a block
     p.mesh.fine_depth = 1.0;
     p.mesh.fine_radius = 2.0;
     p.schedule = vec![Segment::Load {
