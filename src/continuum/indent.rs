@@ -162,7 +162,10 @@ pub struct SolverParams {
     pub max_cutbacks: usize,
     /// growth factor of the increment after a quick convergence
     pub growth: f64,
-    /// Newton iterations counted as quick
+    /// Newton iterations counted as quick (the increment then grows back towards the
+    /// segment's size). 8: contact increments typically take 5–8 (the active set settles
+    /// over the first iterations); with 5, one cutback at contact onset halved every later
+    /// increment of the 30k-element Hertz bench (89 increments instead of 50)
     pub quick_iterations: usize,
 }
 
@@ -173,7 +176,7 @@ impl Default for SolverParams {
             increments: 20,
             max_cutbacks: 12,
             growth: 1.5,
-            quick_iterations: 5,
+            quick_iterations: 8,
         }
     }
 }
