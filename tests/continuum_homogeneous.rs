@@ -3,8 +3,9 @@
 //! T = (2μ/α)(λ^(α−1) − λ^(−1)) with no lateral strain, and stress relaxation under a step
 //! strain against g(t) = 1 − μ̄(1 − e^(−t/τ)) (seed eq. 5.8).
 
-use turf::continuum::assembly::{Assembler, Equilibrium, Solid};
+use turf::continuum::assembly::{Assembler, Solid};
 use turf::continuum::element::Kinematics;
+use turf::continuum::machine::{Drive, Driven};
 use turf::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use turf::continuum::material::viscoelastic::{relaxation, PronyTerm, Viscoelastic};
 use turf::continuum::material::Elastic;
@@ -68,16 +69,19 @@ fn compress(
     for (n, x) in mesh.nodes.iter().enumerate() {
         u[2 * n + 1] = (lambda - 1.0) * (x[1] + SIDE);
     }
-    let mut sys = Equilibrium {
+    let mut sys = Driven {
         asm,
         solid,
         contact: None,
         history,
         dt,
-        depth: 0.0,
+        drive: Drive::Depth(0.0),
         force_floor: 1e-12,
     };
-    solve(&mut sys, u, &NewtonParams::default()).unwrap();
+    // the unknowns are (u, δ); δ is prescribed (no indenter here)
+    let mut x: Vec<f64> = u.iter().copied().chain([0.0]).collect();
+    solve(&mut sys, &mut x, &NewtonParams::default()).unwrap();
+    u.copy_from_slice(&x[..u.len()]);
     let ev = asm
         .evaluate(solid, None, (u, history), dt, 0.0, false)
         .unwrap();

@@ -11,7 +11,6 @@ use super::contact::Contact;
 use super::element::{self, Geometry, Kinematics, StepContext};
 use super::material::{Material, Voigt};
 use super::mesh::Mesh;
-use super::newton::{NewtonSystem, Point};
 use super::FeError;
 use crate::numerics::sparse::{SparseError, SparseSystem};
 use rayon::prelude::*;
@@ -319,52 +318,4 @@ fn dofs_of<const N: usize, const M: usize>(nodes: &[usize; N]) -> [usize; M] {
         d[2 * a + 1] = 2 * n + 1;
     }
     d
-}
-
-/// One increment's equilibrium problem, for [`super::newton::solve`]: the unknowns are all
-/// dofs (constrained ones keep the values they start with).
-pub struct Equilibrium<'a> {
-    /// pattern and factorisation
-    pub asm: &'a mut Assembler,
-    /// the solid
-    pub solid: &'a Solid,
-    /// the contact, if any
-    pub contact: Option<&'a Contact<'a>>,
-    /// history at the start of the step
-    pub history: &'a [f64],
-    /// time step, s
-    pub dt: f64,
-    /// indenter depth, nm
-    pub depth: f64,
-    /// smallest reference force for the convergence test, nN
-    pub force_floor: f64,
-}
-
-impl NewtonSystem for Equilibrium<'_> {
-    fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, String> {
-        let ev = self
-            .asm
-            .evaluate(
-                self.solid,
-                self.contact,
-                (x, self.history),
-                self.dt,
-                self.depth,
-                tangent,
-            )
-            .map_err(|e| e.to_string())?;
-        let gnorm = ev.gradient.iter().map(|g| g * g).sum::<f64>().sqrt();
-        Ok(Point {
-            energy: ev.energy,
-            residual: self.asm.residual(&ev.gradient),
-            reference: gnorm
-                .max(ev.load.abs())
-                .max(1e-3 * ev.force_scale)
-                .max(self.force_floor),
-            values: ev.values,
-        })
-    }
-    fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, String> {
-        self.asm.solve(values, rhs).map_err(|e| e.to_string())
-    }
 }
