@@ -19,8 +19,7 @@ const FD_STEP: f64 = 1e-3;
 const FD_TOL: f64 = 1e-4;
 
 /// Four slightly wavy 1-µm tubes of 8 segments in a 200 nm periodic box, tilted and waved
-/// little enough that the generated tubes do not cross (the generator places only the bases
-/// without overlap).
+/// little enough that the generator's first growth draws already clear each other.
 fn small_turf() -> TurfParams {
     TurfParams {
         density: 1e-4,

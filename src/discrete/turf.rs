@@ -8,7 +8,15 @@
 //!
 //! xᵢ(s) = bᵢ + s dᵢ + A (sin(2πs/λ + φᵢ) − sin φᵢ) eᵢ,  0 ≤ s ≤ Lᵢ,
 //!
-//! sampled at ⌈Lᵢ/ℓ⌉ + 1 equally spaced s. Lengths are log-normal (mean, coefficient of
+//! sampled at ⌈Lᵢ/ℓ⌉ + 1 equally spaced s. Growth is overlap-free along the whole length:
+//! every segment of a candidate tube is checked against every segment of the tubes already
+//! grown, and of their periodic images (and its own) in x and y, for every image shift the
+//! tubes' bounding boxes can reach; the axes must stay r_a + r_b + 0.34 nm apart (the
+//! equilibrium gap). Bounding boxes per tube and per segment, and a height band search (node
+//! heights increase along a tube), prune before the exact segment–segment distance. A tube
+//! that crosses is redrawn (base, tilt, wave direction and phase; its radius and length are
+//! kept) up to a fixed number of attempts, after which generation fails with
+//! [`TurfError::Interpenetrating`]. Lengths are log-normal (mean, coefficient of
 //! variation), outer radii normal (mean, coefficient of variation, inner radius scaled with
 //! the outer one). The first two nodes of each tube are clamped (position and tangent at the
 //! substrate). Every random number comes from one `Pcg64` seeded by `seed`, drawn in a fixed
@@ -22,6 +30,9 @@ use std::f64::consts::PI;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64;
 use serde::{Deserialize, Serialize};
+
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::details::closest_points_segment_segment_with_locations_nD;
 
 use super::broadphase::PeriodicBox;
 use super::vdw_term::TubeLayout;
@@ -99,8 +110,27 @@ pub enum TurfError {
         /// bases wanted
         wanted: usize,
     },
+    /// a tube could not be grown clear of the tubes already grown
+    #[error(
+        "grew only {placed} of {wanted} tubes without interpenetration: tube {} crossed an \
+         already grown tube (or a periodic image, or its own) in all {attempts} growth \
+         attempts; lower the density, tilt, waviness or length",
+        placed + 1
+    )]
+    Interpenetrating {
+        /// tubes grown
+        placed: usize,
+        /// tubes wanted
+        wanted: usize,
+        /// growth attempts spent on the tube that failed
+        attempts: usize,
+    },
 }
 
+/// Growth draws (base, tilt, wave direction and phase) per tube before the turf is declared
+/// impossible: the last tubes of a crowded patch are accepted only when nearly parallel to the
+/// others, so they need many draws, while a failing request still ends within seconds.
+const GROWTH_ATTEMPTS: usize = 10_000;
 /// Attempts per base before the density is declared too high.
 const PLACEMENT_ATTEMPTS: usize = 1000;
 /// Largest tilt from vertical, rad (80°): tubes must rise from the substrate.
@@ -224,6 +254,100 @@ fn normal(rng: &mut Pcg64) -> f64 {
     (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
 }
 
+/// A grown tube's nodes with its outer radius and axis-aligned bounding box (of the axis).
+struct Grown {
+    nodes: Vec<[f64; 3]>,
+    radius: f64,
+    lo: [f64; 3],
+    hi: [f64; 3],
+}
+
+impl Grown {
+    fn new(nodes: Vec<[f64; 3]>, radius: f64) -> Self {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for n in &nodes {
+            for d in 0..3 {
+                lo[d] = lo[d].min(n[d]);
+                hi[d] = hi[d].max(n[d]);
+            }
+        }
+        Grown {
+            nodes,
+            radius,
+            lo,
+            hi,
+        }
+    }
+}
+
+/// Image shifts k (in periods `l`) along one axis for which the interval [lo_b, hi_b] + k·l
+/// comes within `gap` of [lo_a, hi_a]: every shift whose image can reach, however far the
+/// tubes lean out of the box.
+fn shift_range(lo_a: f64, hi_a: f64, lo_b: f64, hi_b: f64, gap: f64, l: f64) -> (i64, i64) {
+    (
+        ((lo_a - hi_b - gap) / l).ceil() as i64,
+        ((hi_a - lo_b + gap) / l).floor() as i64,
+    )
+}
+
+/// Distance (nm) between the segments [a0, a1] and [b0, b1] (parry's closest points).
+fn segment_distance(a0: [f64; 3], a1: [f64; 3], b0: [f64; 3], b1: [f64; 3]) -> f64 {
+    let v = |p: [f64; 3]| Vector::new(p[0], p[1], p[2]);
+    let (a0, a1, b0, b1) = (v(a0), v(a1), v(b0), v(b1));
+    let (la, lb) = closest_points_segment_segment_with_locations_nD((&a0, &a1), (&b0, &b1));
+    let [ua, va] = la.barycentric_coordinates();
+    let [ub, vb] = lb.barycentric_coordinates();
+    ((a0 * ua + a1 * va) - (b0 * ub + b1 * vb)).length()
+}
+
+/// Whether the axes of `a` and of every periodic image of `b` stay at least
+/// r_a + r_b + [`BASE_GAP`] apart (`same`: `b` is `a` itself, so only its images count).
+/// Prefilters: the tubes' bounding boxes select the image shifts; node heights increase along
+/// a tube, so a binary search picks the segments of `b` in the height band of each segment of
+/// `a`; then a segment bounding-box test before the exact distance.
+fn clear_of(a: &Grown, b: &Grown, same: bool, box_x: f64, box_y: f64) -> bool {
+    let gap = a.radius + b.radius + BASE_GAP;
+    if a.lo[2] > b.hi[2] + gap || b.lo[2] > a.hi[2] + gap {
+        return true;
+    }
+    let (kx0, kx1) = shift_range(a.lo[0], a.hi[0], b.lo[0], b.hi[0], gap, box_x);
+    let (ky0, ky1) = shift_range(a.lo[1], a.hi[1], b.lo[1], b.hi[1], gap, box_y);
+    for kx in kx0..=kx1 {
+        for ky in ky0..=ky1 {
+            if same && kx == 0 && ky == 0 {
+                continue;
+            }
+            let off = [kx as f64 * box_x, ky as f64 * box_y];
+            let shifted = |n: [f64; 3]| [n[0] + off[0], n[1] + off[1], n[2]];
+            for sa in a.nodes.windows(2) {
+                let (za, zb) = (sa[0][2].min(sa[1][2]), sa[0][2].max(sa[1][2]));
+                // segments j of b with z_j ≤ zb + gap and z_{j+1} ≥ za − gap
+                let first = b
+                    .nodes
+                    .partition_point(|n| n[2] < za - gap)
+                    .saturating_sub(1);
+                let last = b.nodes.partition_point(|n| n[2] <= zb + gap);
+                let end = (last + 1).min(b.nodes.len());
+                if first + 1 >= end {
+                    continue;
+                }
+                for sb in b.nodes[first..end].windows(2) {
+                    let (b0, b1) = (shifted(sb[0]), shifted(sb[1]));
+                    let apart = (0..2).any(|d| {
+                        sa[0][d].min(sa[1][d]) > b0[d].max(b1[d]) + gap
+                            || b0[d].min(b1[d]) > sa[0][d].max(sa[1][d]) + gap
+                    });
+                    if !apart && segment_distance(sa[0], sa[1], b0, b1) < gap {
+                        return false;
+                    }
+                }
+            }
+        }
+    }
+    true
+}
+
 /// Generate a turf from `p` (deterministic in `p.seed`).
 pub fn generate_turf(p: &TurfParams) -> Result<Turf, TurfError> {
     p.validate()?;
@@ -236,61 +360,88 @@ pub fn generate_turf(p: &TurfParams) -> Result<Turf, TurfError> {
         wrap(a[0] - b[0], p.box_x).powi(2) + wrap(a[1] - b[1], p.box_y).powi(2)
     };
     let mut bases: Vec<([f64; 2], f64)> = Vec::with_capacity(wanted);
-    let mut tubes = Vec::with_capacity(wanted);
+    let mut grown: Vec<Grown> = Vec::with_capacity(wanted);
     for _ in 0..wanted {
         let radius = p.radius_outer
             * (1.0 + p.radius_cv * normal(&mut rng).clamp(-RADIUS_CLIP, RADIUS_CLIP));
-        let mut base = None;
-        for _ in 0..PLACEMENT_ATTEMPTS {
-            let b = [rng.random::<f64>() * p.box_x, rng.random::<f64>() * p.box_y];
-            let free = bases
-                .iter()
-                .all(|&(c, rc)| periodic_dist2(b, c) >= (radius + rc + BASE_GAP).powi(2));
-            if free {
-                base = Some(b);
+        // drawn once per tube (after the first base, as before growth was checked): a redraw
+        // changes where and how the tube grows, not its length
+        let mut length = None;
+        let mut accepted = None;
+        for _ in 0..GROWTH_ATTEMPTS {
+            let mut base = None;
+            for _ in 0..PLACEMENT_ATTEMPTS {
+                let b = [rng.random::<f64>() * p.box_x, rng.random::<f64>() * p.box_y];
+                let free = bases
+                    .iter()
+                    .all(|&(c, rc)| periodic_dist2(b, c) >= (radius + rc + BASE_GAP).powi(2));
+                if free {
+                    base = Some(b);
+                    break;
+                }
+            }
+            let Some(base) = base else {
+                return Err(TurfError::TooDense {
+                    placed: bases.len(),
+                    wanted,
+                });
+            };
+            let length =
+                *length.get_or_insert_with(|| (ln_mu + ln_sigma2.sqrt() * normal(&mut rng)).exp());
+            let (tx, ty) = (
+                p.tilt_spread * normal(&mut rng),
+                p.tilt_spread * normal(&mut rng),
+            );
+            let tilt = tx.hypot(ty).min(MAX_TILT);
+            let azimuth = ty.atan2(tx);
+            let dir = [
+                tilt.sin() * azimuth.cos(),
+                tilt.sin() * azimuth.sin(),
+                tilt.cos(),
+            ];
+            let wave_dir = rng.random::<f64>() * 2.0 * PI;
+            let phase = rng.random::<f64>() * 2.0 * PI;
+            let n = (length / p.segment_length).ceil().max(2.0) as usize;
+            let nodes = (0..=n)
+                .map(|k| {
+                    let s = length * k as f64 / n as f64;
+                    let w = p.wave_amplitude
+                        * ((2.0 * PI * s / p.wave_length + phase).sin() - phase.sin());
+                    [
+                        base[0] + s * dir[0] + w * wave_dir.cos(),
+                        base[1] + s * dir[1] + w * wave_dir.sin(),
+                        s * dir[2],
+                    ]
+                })
+                .collect();
+            let cand = Grown::new(nodes, radius);
+            let clear = clear_of(&cand, &cand, true, p.box_x, p.box_y)
+                && grown
+                    .iter()
+                    .all(|g| clear_of(&cand, g, false, p.box_x, p.box_y));
+            if clear {
+                accepted = Some((base, cand));
                 break;
             }
         }
-        let Some(base) = base else {
-            return Err(TurfError::TooDense {
-                placed: bases.len(),
+        let Some((base, cand)) = accepted else {
+            return Err(TurfError::Interpenetrating {
+                placed: grown.len(),
                 wanted,
+                attempts: GROWTH_ATTEMPTS,
             });
         };
         bases.push((base, radius));
-        let length = (ln_mu + ln_sigma2.sqrt() * normal(&mut rng)).exp();
-        let (tx, ty) = (
-            p.tilt_spread * normal(&mut rng),
-            p.tilt_spread * normal(&mut rng),
-        );
-        let tilt = tx.hypot(ty).min(MAX_TILT);
-        let azimuth = ty.atan2(tx);
-        let dir = [
-            tilt.sin() * azimuth.cos(),
-            tilt.sin() * azimuth.sin(),
-            tilt.cos(),
-        ];
-        let wave_dir = rng.random::<f64>() * 2.0 * PI;
-        let phase = rng.random::<f64>() * 2.0 * PI;
-        let n = (length / p.segment_length).ceil().max(2.0) as usize;
-        let nodes = (0..=n)
-            .map(|k| {
-                let s = length * k as f64 / n as f64;
-                let w =
-                    p.wave_amplitude * ((2.0 * PI * s / p.wave_length + phase).sin() - phase.sin());
-                [
-                    base[0] + s * dir[0] + w * wave_dir.cos(),
-                    base[1] + s * dir[1] + w * wave_dir.sin(),
-                    s * dir[2],
-                ]
-            })
-            .collect();
-        tubes.push(Tube {
-            nodes,
-            radius_outer: radius,
-            radius_inner: p.radius_inner * radius / p.radius_outer,
-        });
+        grown.push(cand);
     }
+    let tubes = grown
+        .into_iter()
+        .map(|g| Tube {
+            nodes: g.nodes,
+            radius_outer: g.radius,
+            radius_inner: p.radius_inner * g.radius / p.radius_outer,
+        })
+        .collect();
     Ok(Turf {
         tubes,
         periodic: PeriodicBox {
@@ -339,9 +490,11 @@ mod tests {
 
     #[test]
     fn tubes_start_on_the_substrate_inside_the_box_without_overlapping_bases() {
+        // 500 nm tubes: 200 tilted 2 µm tubes in this box cannot all grow clear of each other
         let p = TurfParams {
             density: 2e-4,
             radius_cv: 0.2,
+            length_mean: 500.0,
             ..TurfParams::default()
         };
         let t = generate_turf(&p).unwrap();
@@ -369,12 +522,15 @@ mod tests {
 
     #[test]
     fn length_and_tilt_statistics_follow_the_parameters() {
+        // sparse and short enough that few growth draws are rejected for crossing another tube
+        // (a rejection favours small tilts and would bias <tilt²>)
         let p = TurfParams {
-            density: 1e-3,
-            box_x: 2000.0,
-            box_y: 2000.0,
+            density: 1e-4,
+            box_x: 6325.0,
+            box_y: 6325.0,
             radius_outer: 5.0,
             radius_inner: 4.0,
+            length_mean: 200.0,
             length_cv: 0.3,
             tilt_spread: 0.1,
             wave_amplitude: 0.0,
@@ -418,8 +574,11 @@ mod tests {
 
     #[test]
     fn impossible_densities_and_bad_parameters_are_errors() {
+        // straight vertical tubes: only the bases can collide
         let dense = TurfParams {
             density: 1e-2,
+            tilt_spread: 0.0,
+            wave_amplitude: 0.0,
             ..TurfParams::default()
         };
         assert!(matches!(
@@ -434,6 +593,110 @@ mod tests {
             generate_turf(&bad),
             Err(TurfError::InvalidParameter { .. })
         ));
+    }
+
+    /// The turf of scenes/turf_compression.toml (9 tubes in a 300 nm periodic box, tilt 0.1,
+    /// waviness 50 nm over 1 µm) with tubes `length` nm long (the scene's: 7 µm).
+    fn scene_turf(length: f64) -> TurfParams {
+        TurfParams {
+            density: 1e-4,
+            box_x: 300.0,
+            box_y: 300.0,
+            radius_outer: 20.0,
+            radius_inner: 17.3,
+            length_mean: length,
+            length_cv: 0.05,
+            tilt_spread: 0.1,
+            wave_amplitude: 50.0,
+            wave_length: 1000.0,
+            segment_length: 350.0,
+            seed: 7,
+            ..TurfParams::default()
+        }
+    }
+
+    /// Smallest axis distance minus r_a + r_b + BASE_GAP over every segment pair, by brute
+    /// force over all pairs and image shifts −3…3 (the tubes lean out of the box by up to a
+    /// few box widths), without the generator's prefilters.
+    fn smallest_clearance(t: &Turf, p: &TurfParams) -> f64 {
+        let mut worst = f64::INFINITY;
+        for (i, a) in t.tubes.iter().enumerate() {
+            for (j, b) in t.tubes.iter().enumerate().skip(i) {
+                for kx in -3..=3 {
+                    for ky in -3..=3 {
+                        if i == j && kx == 0 && ky == 0 {
+                            continue;
+                        }
+                        let (ox, oy) = (f64::from(kx) * p.box_x, f64::from(ky) * p.box_y);
+                        for sa in a.nodes.windows(2) {
+                            for sb in b.nodes.windows(2) {
+                                let m = |n: [f64; 3]| [n[0] + ox, n[1] + oy, n[2]];
+                                let d = segment_distance(sa[0], sa[1], m(sb[0]), m(sb[1]));
+                                let need = a.radius_outer + b.radius_outer + BASE_GAP;
+                                worst = worst.min(d - need);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn tilted_wavy_tubes_grow_clear_of_each_other_and_their_images() {
+        // 2 µm tubes grow clear of each other; the scene's 7 µm tubes cannot (below)
+        let p = scene_turf(2000.0);
+        let t = generate_turf(&p).unwrap();
+        assert_eq!(t.tubes.len(), 9);
+        // the tubes do lean out of the box by more than one width, so the far images matter
+        let reach = t
+            .tubes
+            .iter()
+            .flat_map(|tube| tube.nodes.iter().map(|n| (n[0] - tube.nodes[0][0]).abs()))
+            .fold(0.0, f64::max);
+        let clearance = smallest_clearance(&t, &p);
+        assert!(
+            clearance >= 0.0,
+            "clearance {clearance} nm, reach {reach} nm"
+        );
+        assert_eq!(t, generate_turf(&p).unwrap());
+    }
+
+    #[test]
+    fn the_scene_turf_of_7_um_tubes_cannot_grow_clear() {
+        let err = generate_turf(&scene_turf(7000.0)).unwrap_err();
+        assert!(
+            matches!(err, TurfError::Interpenetrating { wanted: 9, .. }),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn an_impossible_growth_request_is_an_error() {
+        // 20 tubes in a 300 nm box, each waving ±300 nm over 3 µm: the bases fit, the tubes
+        // cannot all miss each other
+        let p = TurfParams {
+            density: 20.0 / 9e4,
+            box_x: 300.0,
+            box_y: 300.0,
+            length_mean: 3000.0,
+            wave_amplitude: 300.0,
+            wave_length: 1000.0,
+            segment_length: 100.0,
+            ..TurfParams::default()
+        };
+        let err = generate_turf(&p).unwrap_err();
+        let TurfError::Interpenetrating {
+            placed,
+            wanted,
+            attempts,
+        } = err
+        else {
+            panic!("{err}");
+        };
+        assert!(placed < wanted && wanted == 20 && attempts == GROWTH_ATTEMPTS);
+        assert!(err.to_string().contains("without interpenetration"));
     }
 
     #[test]

@@ -104,8 +104,8 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         return Err(failed(format!(
             "the generated turf has interpenetrating tubes that the relaxation did not separate \
              (smallest surface gap {:.3} nm; {} contacts, van der Waals energy {:.4e} aJ): the \
-             generator places the bases without overlap but not the tubes along their length — \
-             lower turf.growth.tilt, waviness or the density",
+             generator grows the tubes clear of each other, so the relaxation moved them \
+             through each other — lower turf.growth.tilt, waviness or the density",
             relaxed.state.min_gap, relaxed.state.contacts, relaxed.state.energy.vdw
         )));
     }
