@@ -77,20 +77,17 @@ fn main() {
         r.stats.assembly.assembly_s,
         r.stats.assembly.solve_s
     );
-    if let Some(j) = s.events.jump_in {
-        println!(
-            "  jump-in at δ {:.3} nm, P/(πγR) {:.3} → {:.3}",
-            j.before.drive_nm,
-            j.before.load_nN / scale,
-            j.after.load_nN / scale
-        );
-    }
-    if let Some(j) = s.events.jump_out {
-        println!(
-            "  jump-out at δ {:.3} nm, P/(πγR) {:.3} → {:.3}",
-            j.before.drive_nm,
-            j.before.load_nN / scale,
-            j.after.load_nN / scale
-        );
+    for (name, jump) in [
+        ("jump-in", s.events.jump_in),
+        ("jump-out", s.events.jump_out),
+    ] {
+        if let Some(j) = jump {
+            println!(
+                "  {name} at δ {:.3} nm, P/(πγR) {:.3} → {:.3}",
+                j.before.drive_nm,
+                j.before.load_nN / scale,
+                j.after.load_nN / scale
+            );
+        }
     }
 }

@@ -30,18 +30,23 @@ fn run(p: &IndentParams) -> IndentResult {
     run_indent(p, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The half-space solver's pull-off P/(πγR) for the LJ 9-3 law at Tabor μ (the reference).
+fn halfspace_pull_off(mu: f64) -> f64 {
+    pull_off(
+        &Problem::scaled(mu, LjKind::Lj93).unwrap(),
+        &HalfspaceParams::default(),
+    )
+    .unwrap()
+    .normalized
+}
+
 #[test]
 fn small_strain_pull_off_matches_the_halfspace_at_mu_1() {
     let mu = 1.0;
     let p = tabor_sphere(mu, 1000.0, LjKind::Lj93, Kinematics::Small);
     let r = run(&p);
     let fe = normalised_pull_off(&r).expect("pull-off passed");
-    let hs = pull_off(
-        &Problem::scaled(mu, LjKind::Lj93).unwrap(),
-        &HalfspaceParams::default(),
-    )
-    .unwrap()
-    .normalized;
+    let hs = halfspace_pull_off(mu);
     eprintln!(
         "μ = 1: FE {fe:.4}, half-space {hs:.4}; {} elements, {} increments, {:.1} s",
         r.mesh_report.elements, r.stats.increments, r.stats.wall_s
@@ -158,12 +163,7 @@ fn small_strain_pull_off_tends_to_dmt_at_small_mu() {
     for mu in [0.5, 0.1] {
         let r = run(&tabor_sphere(mu, 1000.0, LjKind::Lj93, Kinematics::Small));
         let fe = normalised_pull_off(&r).expect("pull-off passed");
-        let hs = pull_off(
-            &Problem::scaled(mu, LjKind::Lj93).unwrap(),
-            &HalfspaceParams::default(),
-        )
-        .unwrap()
-        .normalized;
+        let hs = halfspace_pull_off(mu);
         eprintln!("μ = {mu}: FE {fe:.4}, half-space {hs:.4}");
         assert!((fe / hs - 1.0).abs() < PULL_OFF_TOL, "FE {fe} vs {hs}");
         assert!(
