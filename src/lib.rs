@@ -11,6 +11,7 @@
 //! - [`continuum`]: axisymmetric finite-deformation FE indentation.
 //! - [`discrete`]: the turf as tubes.
 //! - [`homogenize`]: from a stress–strain curve to a material card.
+//! - [`experiment`]: measured indentation records and the fit of the seed's indentation law.
 //! - [`scene`]: the scene file (TOML), its validation and the resolved plan.
 //! - [`pipeline`]: a scene's stages run in order.
 //! - [`report`]: CSV, JSON, plots and VTK, every file written atomically.
@@ -18,6 +19,7 @@
 
 pub mod continuum;
 pub mod discrete;
+pub mod experiment;
 pub mod halfspace;
 pub mod homogenize;
 pub mod laws;

@@ -23,6 +23,8 @@ enum Command {
     Theory(cli::theory::TheoryArgs),
     /// Fit a material card from a stress–strain curve or a tangent law.
     Homogenize(cli::homogenize::HomogenizeArgs),
+    /// Fit K1, K2, eta of the seed's indentation law (2.1)-(2.7) to a force-controlled record.
+    FitIndentation(cli::fit_indentation::FitIndentationArgs),
 }
 
 fn main() -> ExitCode {
@@ -32,6 +34,7 @@ fn main() -> ExitCode {
         Command::Check(a) => cli::run::check(a),
         Command::Theory(a) => cli::theory::run(a),
         Command::Homogenize(a) => cli::homogenize::run(a),
+        Command::FitIndentation(a) => cli::fit_indentation::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
