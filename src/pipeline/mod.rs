@@ -6,7 +6,8 @@
 //! -> Result<StageOutput, StageError>`, plugged in by one arm of [`run_stage`]. A stage whose
 //! engine is not in this build is an error naming the stage, never a placeholder result. A run
 //! that fails midway keeps what it finished: `summary.json` is rewritten after every stage and
-//! records the stages done and the error.
+//! records the stages done and the error. At the end (also after a failure) the run's
+//! `report.md` is written from the summary ([`crate::report::markdown`]).
 //!
 //! `summary.json`: `turf_version`, `file`, `units` (the internal units), `scene` (the fully
 //! resolved scene in internal units), `derived`, `plan`, then either `stages` (one record per
@@ -310,6 +311,7 @@ pub fn run_with(
     }
     summary.complete = failure.is_none();
     write_json(&summary_path, &summary)?;
+    crate::report::markdown::write_run_report(&summary, &out_dir)?;
     Ok(RunReport {
         out_dir,
         summary,

@@ -1,10 +1,12 @@
-//! Writing results: CSV tables, JSON summaries, plots (SVG and PNG) and VTK files for ParaView.
+//! Writing results: CSV tables, JSON summaries, plots (SVG and PNG), VTK files for ParaView and
+//! the per-run Markdown report.
 //!
 //! Every file is written atomically ([`write_atomic`]): to a temporary file beside the target,
 //! then renamed, so an interrupted run never leaves a half-written result. Non-finite numbers
 //! are refused before anything is written.
 
 pub mod csv;
+pub mod markdown;
 pub mod plot;
 pub mod vtk;
 
