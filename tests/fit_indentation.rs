@@ -293,6 +293,35 @@ fn the_standard_errors_are_calibrated_over_many_noise_seeds() {
     );
 }
 
+#[test]
+fn a_record_that_hides_the_specimen_is_flagged_not_trusted() {
+    // the seed's machine of Fig 6.11 (k₁ = 210 mN/nm, k₂ = 100 nN/nm): the support springs
+    // carry all but ~1e-7 of the load, the plate moves ~1e-4 nm, so a 0.05 nm noise hides the
+    // specimen entirely; noise-free, the same record is still fitted exactly
+    let seed_machine = Machine {
+        k1: 2.1e8,
+        k2: Some(100.0),
+    };
+    let (t, p, h) = synthetic(&rheology(&seed_machine, &TRUTH), 100);
+    let exact = fit(
+        &parse_record(&csv(&t, &p, &h), "seed.csv").unwrap(),
+        &seed_machine,
+    )
+    .unwrap();
+    assert!(exact.warnings.is_empty(), "{:?}", exact.warnings);
+    let mut rng = Pcg64::seed_from_u64(3);
+    let noisy: Vec<f64> = h.iter().map(|x| x + NOISE_NM * normal(&mut rng)).collect();
+    let f = fit(
+        &parse_record(&csv(&t, &p, &noisy), "seed.csv").unwrap(),
+        &seed_machine,
+    )
+    .unwrap();
+    assert!(!f.warnings.is_empty(), "{f:?}");
+    // the well-posed noisy fit carries none
+    let (good, _) = noisy_fit(&NEARLY_IDEAL, &Machine::IDEAL, NOISE_NM, 1);
+    assert!(good.warnings.is_empty(), "{:?}", good.warnings);
+}
+
 fn refused(tag: &str, text: &str) -> String {
     let dir = temp(tag);
     let file = dir.join(format!("{tag}.csv"));

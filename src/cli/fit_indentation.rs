@@ -93,6 +93,9 @@ pub fn run(args: FitIndentationArgs) -> anyhow::Result<()> {
             None => println!("{name}: no window found in the record"),
         }
     }
+    for w in &fit.warnings {
+        println!("warning: {w}");
+    }
     println!("wrote {}", dir.display());
     Ok(())
 }

@@ -26,7 +26,9 @@
 //! (Levenberg–Marquardt, standard errors from s²(JᵀJ)⁻¹) from a few starting relaxation times,
 //! keeping the best. τ and its standard error follow from (2.5) and the covariance (delta
 //! method). The checks of the seed's slopes are computed on the record's (Q, δ): the initial
-//! loading slope (≈ K₁, 2.7) and the hold slope (= −χ, 2.6).
+//! loading slope (≈ K₁, 2.7) and the hold slope (= −χ, 2.6). A fit whose covariance is singular
+//! or whose standard error exceeds [`UNDETERMINED_REL_SE`] of a constant carries a warning: the
+//! record does not determine that constant (e.g. stiff support springs hide the specimen).
 //!
 //! Units: nN, nm, s; stiffnesses nN/nm, η nN·s/nm.
 
@@ -45,6 +47,10 @@ pub const HOLD_RATE_SHARE: f64 = 0.01;
 /// Starting relaxation times, as shares of the record's duration: the cost is not convex in τ
 /// (a τ far from the truth hides the creep), so the fit starts from each and keeps the best.
 const START_TAU_SHARES: [f64; 5] = [0.01, 0.03, 0.1, 0.3, 1.0];
+
+/// A constant whose standard error exceeds this share of its value is flagged as not
+/// determined by the record: its 1σ interval then includes zero (and every larger multiple).
+pub const UNDETERMINED_REL_SE: f64 = 1.0;
 
 /// The fewest samples in a slope window (a line through two points has no redundancy).
 const MIN_SLOPE_POINTS: usize = 3;
@@ -287,6 +293,8 @@ pub struct IndentationFit {
     pub evaluations: usize,
     /// why the best start stopped
     pub termination: Termination,
+    /// what the record does not determine (empty for a well-posed fit)
+    pub warnings: Vec<String>,
 }
 
 struct DisplacementFit<'a> {
@@ -474,6 +482,26 @@ pub fn fit(record: &IndentationRecord, machine: &Machine) -> Result<IndentationF
         let g = DVector::from_column_slice(&[dtau[0], dtau[1], dtau[2], 0.0]);
         (g.transpose() * c * &g)[(0, 0)].max(0.0).sqrt()
     });
+    let warnings = match &std_errors {
+        None => vec![
+            "no standard errors: JᵀJ is singular at the optimum, so the record does not \
+             determine all of K1, K2, eta"
+                .to_string(),
+        ],
+        Some(se) => ["K1", "K2", "eta"]
+            .iter()
+            .zip(&p)
+            .zip(se)
+            .filter(|((_, v), se)| **se > UNDETERMINED_REL_SE * v.abs())
+            .map(|((name, v), se)| {
+                format!(
+                    "{name} = {v:.4e} ± {se:.2e} is not determined by this record (standard \
+                     error above {:.0} % of the value)",
+                    100.0 * UNDETERMINED_REL_SE
+                )
+            })
+            .collect(),
+    };
     Ok(IndentationFit {
         machine: *machine,
         chi: machine.chi(),
@@ -496,6 +524,7 @@ pub fn fit(record: &IndentationRecord, machine: &Machine) -> Result<IndentationF
         iterations: info.iterations,
         evaluations,
         termination: info.termination,
+        warnings,
     })
 }
 

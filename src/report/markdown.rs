@@ -89,11 +89,22 @@ fn text(v: &Value) -> String {
     }
 }
 
-/// A number as compact text (significant digits kept).
+/// Significant digits of the numbers in the report's tables (summary.json keeps them all).
+const DIGITS: i32 = 7;
+
+/// A number with [`DIGITS`] significant digits, in exponent form outside 1e-3..1e6.
 fn number(v: &Value) -> String {
     match v.as_f64() {
-        Some(x) if x != 0.0 && !(1e-3..1e6).contains(&x.abs()) => format!("{x:.6e}"),
-        Some(x) => format!("{}", (x * 1e9).round() / 1e9),
+        Some(0.0) => "0".into(),
+        Some(x) if (1e-3..1e6).contains(&x.abs()) => {
+            let decimals = (DIGITS - 1 - x.abs().log10().floor() as i32).max(0) as usize;
+            let s = format!("{x:.decimals$}");
+            match s.contains('.') {
+                true => s.trim_end_matches('0').trim_end_matches('.').to_string(),
+                false => s,
+            }
+        }
+        Some(x) => format!("{:.*e}", DIGITS as usize - 1, x),
         None => text(v),
     }
 }
