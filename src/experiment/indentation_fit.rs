@@ -516,7 +516,7 @@ pub fn fit(record: &IndentationRecord, machine: &Machine) -> Result<IndentationF
         initial_slope: initial_window(&record.load)
             .map(|w| slope_check(w, record, &fitted, machine, specimen.k1)),
         hold_slope: hold_window(&record.time, &record.load)
-            .map(|w| slope_check(w, record, &fitted, machine, -machine.chi())),
+            .map(|w| slope_check(w, record, &fitted, machine, 0.0 - machine.chi())),
         fitted_displacement: fitted,
         samples: m,
         starts: START_TAU_SHARES.len(),

@@ -54,7 +54,8 @@ pub struct FitSummary<'a> {
 }
 
 /// Write `fit.csv` (measured against fitted), `plots/fit_time.svg|png` (displacement against
-/// time) and `plots/fit_load.svg|png` (load against displacement), then `fit.json`.
+/// time), `plots/fit_load.svg|png` (load against displacement) and `plots/fit_residual.svg|png`,
+/// then `fit.json`.
 pub fn write_outputs(
     data: &Path,
     record: &IndentationRecord,
@@ -72,7 +73,7 @@ pub fn write_outputs(
         .column("load_nN", record.load.clone())
         .column("displacement_nm", record.displacement.clone())
         .column("fitted_displacement_nm", fit.fitted_displacement.clone())
-        .column("residual_nm", residual)
+        .column("residual_nm", residual.clone())
         .write(&dir.join("fit.csv"))?;
     let plots = dir.join("plots");
     Plot::new(
@@ -107,6 +108,17 @@ pub fn write_outputs(
         record.load.clone(),
     ))
     .write(&plots, "fit_load")?;
+    Plot::new(
+        "Displacement residual (record - fit)",
+        "time (s)",
+        "residual (nm)",
+    )
+    .with(Series::points(
+        "record - fit",
+        record.time.clone(),
+        residual,
+    ))
+    .write(&plots, "fit_residual")?;
     let files = [
         "fit.json",
         "fit.csv",
@@ -114,6 +126,8 @@ pub fn write_outputs(
         "plots/fit_time.png",
         "plots/fit_load.svg",
         "plots/fit_load.png",
+        "plots/fit_residual.svg",
+        "plots/fit_residual.png",
     ];
     let summary = FitSummary {
         turf_version: env!("CARGO_PKG_VERSION"),
