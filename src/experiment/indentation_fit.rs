@@ -32,7 +32,7 @@
 //!
 //! Units: nN, nm, s; stiffnesses nN/nm, η nN·s/nm.
 
-use super::record::IndentationRecord;
+use super::record::{IndentationRecord, MIN_POINTS};
 use crate::numerics::least_squares::{self, Problem, Termination};
 use nalgebra::{DMatrix, DVector};
 
@@ -89,7 +89,7 @@ impl Machine {
 
     fn check(&self) -> Result<(), FitError> {
         let k2_ok = self.k2.is_none_or(|k| k.is_finite() && k > 0.0);
-        if !(self.k1.is_finite() && self.k1 >= 0.0) || !k2_ok {
+        if !(self.k1.is_finite() && self.k1 >= 0.0 && k2_ok) {
             return Err(FitError::Machine {
                 k1: self.k1,
                 k2: self.k2,
@@ -166,7 +166,8 @@ pub fn relaxation_time(m: &Machine, sp: &Specimen) -> (f64, [f64; 3]) {
 }
 
 /// The plate displacement h at each sample for the applied force `load` (piecewise linear in
-/// `time`), the specimen relaxed under the first load, and ∂h/∂(K₁, K₂, η) at each sample.
+/// `time`), the specimen relaxed under the first load, and ∂h/∂(K₁, K₂, η) at each sample
+/// (as many samples as the shorter of `time` and `load`).
 pub fn plate_displacement(
     time: &[f64],
     load: &[f64],
@@ -185,7 +186,7 @@ pub fn plate_displacement(
     let mut dd2: [f64; 3] = n.ds.map(|d| -p0 * d / (n.s * n.s));
     let (h0, dh0) = out(p0, d2, &dd2);
     let (mut h, mut dh) = (vec![h0], vec![dh0]);
-    for j in 0..time.len().saturating_sub(1) {
+    for j in 0..time.len().min(load.len()).saturating_sub(1) {
         let x = (time[j + 1] - time[j]) / n.tau;
         let e = (-x).exp();
         let one_minus_e = -(-x).exp_m1();
@@ -217,6 +218,9 @@ pub enum FitError {
         /// k₂ given
         k2: Option<f64>,
     },
+    /// the record breaks an invariant of [`IndentationRecord`]
+    #[error("invalid record: {0}")]
+    InvalidRecord(&'static str),
     /// no start converged
     #[error("the fit of K1, K2, eta did not converge from any of {starts} starts: {last}")]
     NoConvergence {
@@ -437,9 +441,35 @@ fn start(record: &IndentationRecord, machine: &Machine, tau: f64) -> [f64; 4] {
     [k1, k2, tau * n.s / n.omega, 0.0]
 }
 
+/// The record's invariants, for records not built by [`super::record::parse_record`] (which
+/// refuses the same with the line and column).
+fn check_record(r: &IndentationRecord) -> Result<(), FitError> {
+    let reason = if r.load.len() != r.time.len() || r.displacement.len() != r.time.len() {
+        "columns of different lengths"
+    } else if r.time.len() < MIN_POINTS {
+        "fewer samples than record::MIN_POINTS"
+    } else if [&r.time, &r.load, &r.displacement]
+        .iter()
+        .any(|c| c.iter().any(|x| !x.is_finite()))
+    {
+        "a non-finite value"
+    } else if r.time.windows(2).any(|w| w[1] <= w[0]) {
+        "time not strictly increasing"
+    } else if [&r.load, &r.displacement]
+        .iter()
+        .any(|c| c.iter().all(|&x| x == c[0]))
+    {
+        "a load or a displacement that never changes"
+    } else {
+        return Ok(());
+    };
+    Err(FitError::InvalidRecord(reason))
+}
+
 /// Fit K₁, K₂, η to `record` measured through `machine`.
 pub fn fit(record: &IndentationRecord, machine: &Machine) -> Result<IndentationFit, FitError> {
     machine.check()?;
+    check_record(record)?;
     let problem = DisplacementFit {
         record,
         machine: *machine,
@@ -659,6 +689,33 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_record_built_by_hand_is_checked_not_trusted() {
+        let t: Vec<f64> = (0..12).map(f64::from).collect();
+        let mut r = IndentationRecord {
+            time: t.clone(),
+            load: t.clone(),
+            displacement: t[..11].to_vec(),
+            format: super::super::record::Format::Csv,
+            columns: Default::default(),
+        };
+        assert!(matches!(
+            fit(&r, &Machine::IDEAL),
+            Err(FitError::InvalidRecord(_))
+        ));
+        r.displacement = t.clone();
+        r.time[5] = r.time[4];
+        assert!(matches!(
+            fit(&r, &Machine::IDEAL),
+            Err(FitError::InvalidRecord(_))
+        ));
+        r.time = vec![];
+        assert!(matches!(
+            fit(&r, &Machine::IDEAL),
+            Err(FitError::InvalidRecord(_))
+        ));
     }
 
     #[test]
