@@ -116,3 +116,42 @@ fn a_complete_run_reports_every_stage_and_no_failure() {
     assert!(!md.contains("The run stopped"), "{md}");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn a_sweep_reports_each_value_with_its_stages_in_its_folder() {
+    let scene = format!(
+        "{SCENE}[sweep]\nkey = \"adhesion.gamma\"\nvalues = [\"0.05 J/m^2\", \"0.1 J/m^2\"]\n"
+    );
+    let loaded = load_str(&scene, Path::new("report.toml"), &[]).unwrap();
+    let dir = temp_dir("sweep");
+    let opts = RunOptions {
+        out: Some(dir.clone()),
+        progress: false,
+    };
+    let mut runner = |stage: Stage, _: &ResolvedScene, _: &StageContext| match stage {
+        Stage::Halfspace => Err(StageError::Failed {
+            stage,
+            message: "stopped on purpose".into(),
+        }),
+        _ => Ok(StageOutput {
+            tables: vec![(
+                "curve".to_string(),
+                Table::new().column("depth_nm", vec![0.0]),
+            )],
+            evaluations: 2,
+            ..StageOutput::default()
+        }),
+    };
+    run_with(&loaded, &opts, &mut runner).unwrap();
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    for part in [
+        "## Sweep over `adhesion.gamma`",
+        "(`sweep_000/`)",
+        "[theory_curve.csv](sweep_000/theory_curve.csv)",
+        "stage 'halfspace' failed: stopped on purpose",
+        "Planned but not finished: halfspace.",
+    ] {
+        assert!(md.contains(part), "missing {part:?} in:\n{md}");
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
