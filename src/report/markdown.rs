@@ -201,10 +201,11 @@ fn stages(s: &mut String, records: &Value, sub: &str, dir: &Path, level: &str) {
     if !records.is_empty() {
         let _ = writeln!(
             s,
-            "\nTotal: {:.3} s, {} evaluations over {} stages.",
+            "\nTotal: {:.3} s, {} evaluations over {} stage{}.",
             cost.0,
             cost.1,
-            records.len()
+            records.len(),
+            if records.len() == 1 { "" } else { "s" }
         );
     }
 }
