@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Run turf and its peers on the same problems and print the comparison (docs/peers.md).
+#
+#   bash benches/peers/run.sh            # all peers, default sizes (tens of minutes on 2 cores)
+#   QUICK=1 bash benches/peers/run.sh    # coarse peer settings, a few minutes
+#
+# Installs the Python peers from PyPI into benches/peers/.venv (pinned in requirements.txt) and
+# CalculiX from Debian when missing; builds turf in release. Results go to
+# benches/peers/results/*.json, the table to stdout.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+venv="$here/.venv"
+out="$here/results"
+mkdir -p "$out"
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+    "$venv/bin/pip" install -q -r "$here/requirements.txt"
+fi
+py="$venv/bin/python"
+(cd "$root" && cargo build --release --locked -q)
+turf="$root/target/release/turf"
+
+# 1. single rod: the Bisshopp–Drucker cantilever, turf (Newton, static) vs PyElastica (damped
+#    explicit dynamics brought to rest)
+"$turf" run "$root/scenes/rods_cantilever.toml" --out "$out/turf_cantilever" --json > "$out/turf_cantilever.json"
+if [ -n "${QUICK:-}" ]; then rests="1e-8"; else rests="1e-8 1e-9 1e-10"; fi
+: > "$out/pyelastica_cantilever.jsonl"
+for r in $rests; do
+    "$py" "$here/pyelastica/cantilever.py" --elements 50 --damping 10 --rest "$r" --max-time 40 \
+        >> "$out/pyelastica_cantilever.jsonl"
+done
+
+# 2. half-space pull-off, LJ 10-4 (Adhesion's "LJ93" energy), mu = 1: turf's axisymmetric
+#    integral solver vs the 3D FFT boundary-element half-space
+"$turf" theory halfspace --mu 1 --law lj104 --json > "$out/turf_halfspace_mu1.json"
+if [ -n "${QUICK:-}" ]; then grids="32"; else grids="32 64 128"; fi
+: > "$out/contactmechanics_pulloff.jsonl"
+for n in $grids; do
+    "$py" "$here/contactmechanics/pulloff.py" --mu 1 --nx "$n" --step 0.1 \
+        >> "$out/contactmechanics_pulloff.jsonl"
+done
+
+# 3. Hertz by FE: turf's axisymmetric CST (scenes/hertz.toml, load and unload) vs CalculiX CAX4
+#    with a penalty contact pair (loading only)
+"$turf" run "$root/scenes/hertz.toml" --out "$out/turf_hertz" --json > "$out/turf_hertz.json"
+command -v ccx > /dev/null || { apt-get update -qq && apt-get install -y -qq calculix-ccx; }
+if [ -n "${QUICK:-}" ]; then meshes="10:1.3"; else meshes="10:1.3 20:1.15 40:1.1"; fi
+: > "$out/calculix_hertz.jsonl"
+for m in $meshes; do
+    "$py" "$here/calculix/hertz.py" --per-radius "${m%%:*}" --ratio "${m##*:}" >> "$out/calculix_hertz.jsonl"
+done
+
+"$py" "$here/compare.py" "$out"
