@@ -6,7 +6,7 @@
 
 use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
 use turf::continuum::element::Kinematics;
-use turf::continuum::events::branch_difference;
+use turf::continuum::events::curve_distance;
 use turf::continuum::indent::Method;
 use turf::continuum::{run_indent, IndentParams, IndentResult};
 use turf::laws::LjKind;
@@ -86,7 +86,8 @@ fn main() {
     }
     let stepped = run(&newton);
     let n = stepped.summary();
-    let (worst, compared) = branch_difference(&stepped.rows, &traced.rows);
+    let z0 = newton.adhesion.unwrap().law.z0();
+    let (worst, at, compared) = curve_distance(&stepped.rows, &traced.rows, z0, scale);
     println!(
         "  newton: pull-off {:.4}; jump-in at δ {:?}, jump-out at δ {:?} P {:?}; damping {:.3e} aJ / strain {:.3e} aJ ({:.3} %); {} increments, {} cutbacks, wall {:.1} s",
         normalised_pull_off(&stepped).unwrap_or(f64::NAN),
@@ -101,8 +102,9 @@ fn main() {
         stepped.stats.wall_s
     );
     println!(
-        "  stable branches: largest |P_newton − P_riks| = {:.4} πγR over {compared} rows",
-        worst / scale
+        "  stable branches: largest distance of a Newton row from the Riks curve in (δ/z0, P/πγR) {worst:.4} at δ {:?} P {:?}, over {compared} rows",
+        at.map(|r| r.drive_nm),
+        at.map(|r| r.load_nN / scale)
     );
     if let Ok(dir) = std::env::var("CSV") {
         stepped

@@ -77,36 +77,93 @@ pub fn jumping(a: &Row, b: &Row) -> bool {
     dg.abs() > JUMP_RATIO * (b.drive_nm - a.drive_nm).abs() && dg != 0.0
 }
 
-/// The largest difference of load between a curve stepped by Newton (`stepped`, its jump
-/// increments left out) and one traced by arc-length (`traced`) at the same drive and on the
-/// same branch (of the traced rows bracketing the drive, those whose interpolated central gap
-/// is nearest), nN; with the number of rows compared. Rows outside the traced range are skipped.
-pub fn branch_difference(stepped: &[Row], traced: &[Row]) -> (f64, usize) {
-    let (mut worst, mut compared) = (0.0f64, 0);
+/// How far a curve stepped by Newton (`stepped`, its jump increments left out) lies from one
+/// traced by arc-length (`traced`): the largest distance of a stepped row from the traced
+/// polyline in the plane (drive/`length`, load/`force`), with that row and the number of rows
+/// compared. A distance rather than a load difference at equal drive, since near a fold the
+/// load is steep in the drive (infinitely so at the fold).
+pub fn curve_distance(
+    stepped: &[Row],
+    traced: &[Row],
+    length: f64,
+    force: f64,
+) -> (f64, Option<Row>, usize) {
+    let xy = |r: &Row| (r.drive_nm / length, r.load_nN / force);
+    let (mut worst, mut at, mut compared) = (0.0f64, None, 0);
     for (i, r) in stepped.iter().enumerate() {
         if i > 0 && jumping(&stepped[i - 1], r) {
             continue;
         }
+        let p = xy(r);
         let nearest = traced
             .windows(2)
-            .filter(|w| w[0].segment == w[1].segment)
-            .filter_map(|w| {
-                let (d0, d1) = (w[0].drive_nm, w[1].drive_nm);
-                if (r.drive_nm - d0) * (r.drive_nm - d1) > 0.0 || d0 == d1 {
-                    return None;
-                }
-                let f = (r.drive_nm - d0) / (d1 - d0);
-                let gap = w[0].gap_nm + f * (w[1].gap_nm - w[0].gap_nm);
-                let load = w[0].load_nN + f * (w[1].load_nN - w[0].load_nN);
-                Some(((gap - r.gap_nm).abs(), load))
+            .map(|w| {
+                let (a, b) = (xy(&w[0]), xy(&w[1]));
+                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                let len2 = dx * dx + dy * dy;
+                let f = if len2 > 0.0 {
+                    (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (p.0 - a.0 - f * dx).hypot(p.1 - a.1 - f * dy)
             })
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        if let Some((_, load)) = nearest {
-            worst = worst.max((load - r.load_nN).abs());
+            .fold(f64::INFINITY, f64::min);
+        if nearest.is_finite() {
             compared += 1;
+            if nearest > worst {
+                worst = nearest;
+                at = Some(*r);
+            }
         }
     }
-    (worst, compared)
+    (worst, at, compared)
+}
+
+/// The pull-off through a machine spring of stiffness `k` from a traced curve: along `path`,
+/// the (δ, P) points of a retraction in order, the first local minimum of the drive
+/// Δ = δ + P/K (dP/dδ = −K there: the spring can hold the state no further), or of P itself
+/// for `k` = None (load control). The minimum is refined by the parabola through it and its
+/// neighbours against the chord length of the path; returns (Δ, P) there (for load control,
+/// (δ, P)). Any consistent units (scaled: δ/z₀, P/(πγR), K z₀/(πγR)).
+pub fn spring_pull_off(path: &[(f64, f64)], k: Option<f64>) -> Option<(f64, f64)> {
+    let value = |&(d, p): &(f64, f64)| match k {
+        Some(k) => d + p / k,
+        None => p,
+    };
+    let i = (1..path.len().saturating_sub(1)).find(|&i| {
+        value(&path[i]) <= value(&path[i - 1]) && value(&path[i]) < value(&path[i + 1])
+    })?;
+    let w = [path[i - 1], path[i], path[i + 1]];
+    let s1 = (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1);
+    let s2 = s1 + (w[2].0 - w[1].0).hypot(w[2].1 - w[1].1);
+    let s = [0.0, s1, s2];
+    let v = w.map(|q| value(&q));
+    // vertex of the parabola through (s_j, v_j)
+    let (d1, d2) = ((v[1] - v[0]) / s1, (v[2] - v[1]) / (s2 - s1));
+    let curvature = (d2 - d1) / s2;
+    let at = if curvature > 0.0 {
+        (0.5 * (s1 - d1 / curvature)).clamp(0.0, s2)
+    } else {
+        s1
+    };
+    let lagrange = |f: [f64; 3]| {
+        (0..3)
+            .map(|j| {
+                let basis: f64 = (0..3)
+                    .filter(|&m| m != j)
+                    .map(|m| (at - s[m]) / (s[j] - s[m]))
+                    .product();
+                f[j] * basis
+            })
+            .sum::<f64>()
+    };
+    let load = lagrange(w.map(|q| q.1));
+    let drive = match k {
+        Some(k) => lagrange(w.map(|q| q.0)) + load / k,
+        None => lagrange(w.map(|q| q.0)),
+    };
+    Some((drive, load))
 }
 
 /// Detect the events along `rows`.
@@ -202,6 +259,42 @@ mod tests {
         assert!(e.fold_in.is_none() && e.fold_out.is_none());
         // a curve still falling at its end has no pull-off
         assert!(detect(&rows[..7]).pull_off.is_none());
+    }
+
+    #[test]
+    fn curve_distance_is_the_distance_to_the_traced_polyline() {
+        let traced = vec![row(0, 0.0, 1.0, 0.0), row(0, 2.0, 1.0, 2.0)];
+        // (1, 0) lies √2/2 from the diagonal, (3, 2) 1 beyond its end; a jump increment is left out
+        let stepped = vec![
+            row(0, 1.0, 1.0, 0.0),
+            row(0, 3.0, 1.0, 2.0),
+            row(0, 3.01, 5.0, 9.0),
+        ];
+        let (d, at, n) = curve_distance(&stepped, &traced, 1.0, 1.0);
+        assert!((d - 1.0).abs() < 1e-15 && at.unwrap().drive_nm == 3.0 && n == 2);
+        let (d, _, _) = curve_distance(&stepped[..1], &traced, 1.0, 2.0);
+        assert!((d - 0.5 / 1.25f64.sqrt()).abs() < 1e-15, "{d}");
+    }
+
+    #[test]
+    fn spring_pull_off_finds_the_point_of_slope_minus_k() {
+        // a retraction along P = (δ − 1)² − 1 (δ decreasing from 3 to −1): dP/dδ = 2(δ − 1)
+        // = −K at δ = 1 − K/2, where P = K²/4 − 1; load control: the minimum −1 at δ = 1
+        let path: Vec<(f64, f64)> = (0..=400)
+            .map(|i| 3.0 - 0.01 * i as f64)
+            .map(|d| (d, (d - 1.0) * (d - 1.0) - 1.0))
+            .collect();
+        for k in [0.5, 1.0, 2.0] {
+            let (drive, load) = spring_pull_off(&path, Some(k)).unwrap();
+            let d = 1.0 - k / 2.0;
+            // the parabola in chord length matches one in δ to O(h²) with steps h = 0.01
+            assert!((load - (k * k / 4.0 - 1.0)).abs() < 1e-4, "{k}: {load}");
+            assert!((drive - (d + (k * k / 4.0 - 1.0) / k)).abs() < 1e-4, "{k}: {drive}");
+        }
+        let (d, p) = spring_pull_off(&path, None).unwrap();
+        assert!((d - 1.0).abs() < 1e-4 && (p + 1.0).abs() < 1e-8, "{d} {p}");
+        // a path that only falls has no pull-off
+        assert!(spring_pull_off(&path[..150], None).is_none());
     }
 
     #[test]
