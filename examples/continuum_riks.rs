@@ -1,15 +1,22 @@
-//! Fig 4.6: damped Newton against arc-length (Riks) on the Tabor-sphere problem (issue 5).
+//! Fig 4.6: damped Newton against arc-length (Riks) on the Tabor-sphere problem (issue 5), and
+//! the pull-off through a machine spring K read off the traced retraction (the first minimum of
+//! Δ = δ + P/K), against the half-space S-curve read the same way.
 //! `cargo run --release --example continuum_riks -- <mu> [lj93|lj104] [R/z0] [small|finite]`
 //! Env `C0` (Newton's damping coefficient, GPa·s/nm), `ZONE` (smallest element, nm), `INC`
 //! (increments per segment), `ONLY=riks` (skip the Newton run), `CSV` (write both runs' rows
-//! under this folder).
+//! under this folder), `CONTRACTION` (the corrector's modified-Newton contraction factor) and
+//! `RIKS_INC` (the arc-length run's increments per segment, its step cap).
 
 use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
 use turf::continuum::element::Kinematics;
-use turf::continuum::events::curve_distance;
+use turf::continuum::events::{curve_distance, spring_pull_off};
 use turf::continuum::indent::Method;
 use turf::continuum::{run_indent, IndentParams, IndentResult};
+use turf::halfspace::{trace_curve, HalfspaceParams, Problem};
 use turf::laws::LjKind;
+
+/// Machine stiffnesses K z₀/(πγR) of the table (∞: displacement control; load control last).
+const STIFFNESSES: [f64; 9] = [f64::INFINITY, 30.0, 10.0, 3.0, 1.0, 0.5, 0.3, 0.1, 0.03];
 
 fn run(p: &IndentParams) -> IndentResult {
     match run_indent(p, &mut |_| {}) {
@@ -49,6 +56,12 @@ fn main() {
     }
     let mut riks = newton.clone();
     riks.solver.method = Method::Riks;
+    if let Some(c) = env("CONTRACTION") {
+        riks.solver.arclength.contraction = c;
+    }
+    if let Some(n) = env("RIKS_INC") {
+        riks.solver.increments = n as usize;
+    }
     if let Some(a) = riks.adhesion.as_mut() {
         a.damping = None;
     }
@@ -81,12 +94,53 @@ fn main() {
             .write(&std::path::Path::new(&dir).join("riks"))
             .unwrap();
     }
+    // the retraction, scaled: δ/z₀, P/(πγR); the half-space curve is traced into contact
+    let z0 = newton.adhesion.unwrap().law.z0();
+    let last = traced.rows.last().map_or(0, |r| r.segment);
+    let fe: Vec<(f64, f64)> = traced
+        .rows
+        .iter()
+        .filter(|r| r.segment == last)
+        .map(|r| (r.depth_nm / z0, r.load_nN / scale))
+        .collect();
+    let hs: Vec<(f64, f64)> = match trace_curve(
+        &Problem::scaled(mu, kind).unwrap(),
+        &HalfspaceParams::default(),
+    ) {
+        Ok(c) => c
+            .points
+            .iter()
+            .rev()
+            .map(|q| (q.approach, q.load))
+            .collect(),
+        Err(e) => {
+            eprintln!("half-space curve: {e}");
+            Vec::new()
+        }
+    };
+    println!("  | K z0/(πγR) | FE pull-off P/(πγR) | FE drive Δ/z0 | half-space P/(πγR) | half-space Δ/z0 |");
+    let ks = STIFFNESSES.iter().map(|&k| Some(k)).chain([None]);
+    for k in ks {
+        let (a, b) = (spring_pull_off(&fe, k), spring_pull_off(&hs, k));
+        let cell = |x: Option<(f64, f64)>, i: usize| {
+            x.map_or("—".to_string(), |v| {
+                format!("{:.4}", if i == 0 { v.1 } else { v.0 })
+            })
+        };
+        println!(
+            "  | {} | {} | {} | {} | {} |",
+            k.map_or("0 (load control)".to_string(), |k| format!("{k}")),
+            cell(a, 0),
+            cell(a, 1),
+            cell(b, 0),
+            cell(b, 1)
+        );
+    }
     if only_riks {
         return;
     }
     let stepped = run(&newton);
     let n = stepped.summary();
-    let z0 = newton.adhesion.unwrap().law.z0();
     let (worst, at, compared) = curve_distance(&stepped.rows, &traced.rows, z0, scale);
     println!(
         "  newton: pull-off {:.4}; jump-in at δ {:?}, jump-out at δ {:?} P {:?}; damping {:.3e} aJ / strain {:.3e} aJ ({:.3} %); {} increments, {} cutbacks, wall {:.1} s",

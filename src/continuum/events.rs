@@ -289,7 +289,10 @@ mod tests {
             let d = 1.0 - k / 2.0;
             // the parabola in chord length matches one in δ to O(h²) with steps h = 0.01
             assert!((load - (k * k / 4.0 - 1.0)).abs() < 1e-4, "{k}: {load}");
-            assert!((drive - (d + (k * k / 4.0 - 1.0) / k)).abs() < 1e-4, "{k}: {drive}");
+            assert!(
+                (drive - (d + (k * k / 4.0 - 1.0) / k)).abs() < 1e-4,
+                "{k}: {drive}"
+            );
         }
         let (d, p) = spring_pull_off(&path, None).unwrap();
         assert!((d - 1.0).abs() < 1e-4 && (p + 1.0).abs() < 1e-8, "{d} {p}");

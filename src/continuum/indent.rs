@@ -697,6 +697,7 @@ pub fn run_indent(
             contact: &contact,
             force_floor,
             newton: p.solver.newton,
+            contraction: p.solver.arclength.contraction,
         };
         let outcome = curve.trace(p, u, &mut result, progress);
         result.stats.assembly = asm.stats;
