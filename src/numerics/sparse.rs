@@ -121,7 +121,7 @@ impl SparseSystem {
         let lu = Lu::try_new_with_symbolic(sym, a.as_ref()).map_err(|_| SparseError::Singular)?;
         Ok(Factor {
             n: self.n,
-            kind: Kind::Lu(lu),
+            kind: Kind::Lu(Box::new(lu)),
         })
     }
 
@@ -140,7 +140,7 @@ impl SparseSystem {
 
 enum Kind {
     Llt(Llt<usize, f64>),
-    Lu(Lu<usize, f64>),
+    Lu(Box<Lu<usize, f64>>),
 }
 
 /// A numeric factorisation, kept to solve several right-hand sides with one matrix (the two
