@@ -368,6 +368,11 @@ impl Curve<'_> {
             let dv_max = (target - v0).abs() / p.solver.increments.max(1) as f64;
             let mut t = pt.tangent(|t| dir * control.rate(t, &pt.ev));
             let mut length = dl.unwrap_or(dv_max / control.rate(&t, &pt.ev).abs());
+            if !(length.is_finite() && length > 0.0) {
+                return Err(format!(
+                    "segment {si} ({seg:?}): the controlled variable does not change along the curve at its start (no contact under load control?)"
+                ));
+            }
             let mut advancing = true;
             let (mut cutbacks, mut steps) = (0, 0);
             loop {
