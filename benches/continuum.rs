@@ -39,12 +39,13 @@ fn bench(c: &mut Criterion) {
         r.mesh_report.elements, r.mesh_report.dofs, s.increments, s.newton_iterations, s.cutbacks
     );
     println!(
-        "wall {:.2} s: mesh {:.3} s, assembly {:.2} s ({} evaluations), solves {:.2} s ({} solves, {} LU fallbacks); peak RSS {:?} kB",
+        "wall {:.2} s: mesh {:.3} s, assembly {:.2} s ({} evaluations), solves {:.2} s ({} factorisations, {} solves, {} LU fallbacks); peak RSS {:?} kB",
         s.wall_s,
         s.mesh_s,
         s.assembly.assembly_s,
         s.assembly.assemblies,
         s.assembly.solve_s,
+        s.assembly.factorisations,
         s.assembly.solves,
         s.assembly.lu_fallbacks,
         peak_rss_kb()

@@ -12,7 +12,7 @@ use super::element::{self, Geometry, Kinematics, StepContext};
 use super::material::{Material, Voigt};
 use super::mesh::Mesh;
 use super::FeError;
-use crate::numerics::sparse::{SparseError, SparseSystem};
+use crate::numerics::sparse::{Factor, SparseError, SparseSystem};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -120,11 +120,13 @@ pub struct AssemblyStats {
     pub assemblies: usize,
     /// wall time in assembly, s
     pub assembly_s: f64,
-    /// linear solves (numeric factorisation + solve)
+    /// numeric factorisations of the stiffness
+    pub factorisations: usize,
+    /// linear solves (back substitutions with a factorisation)
     pub solves: usize,
-    /// wall time in linear solves, s
+    /// wall time in factorisations and solves, s
     pub solve_s: f64,
-    /// solves where Cholesky failed and LU was used
+    /// factorisations where Cholesky failed and LU was used
     pub lu_fallbacks: usize,
 }
 
@@ -151,6 +153,18 @@ pub struct Evaluation {
     pub load_gradient: Vec<f64>,
     /// ∂²Π/∂δ², nN/nm
     pub load_stiffness: f64,
+}
+
+impl Evaluation {
+    /// The magnitude of the forces in play, for the convergence test: the gradient (reactions
+    /// included), the load, a round-off share of the element forces, and at least `floor`.
+    pub fn force_reference(&self, floor: f64) -> f64 {
+        let gnorm = self.gradient.iter().map(|g| g * g).sum::<f64>().sqrt();
+        gnorm
+            .max(self.load.abs())
+            .max(1e-3 * self.force_scale)
+            .max(floor)
+    }
 }
 
 /// The sparse pattern of a solid (and contact surface) with its factorisation.
@@ -294,16 +308,26 @@ impl Assembler {
         r
     }
 
-    /// Solve K d = rhs: Cholesky, or LU when K is not positive definite.
-    pub fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, FeError> {
+    /// Factorise K: Cholesky, or LU when K is not positive definite (beyond a limit point of
+    /// the depth, K at fixed depth is indefinite).
+    pub fn factor(&mut self, values: &[f64]) -> Result<Factor, FeError> {
         let t0 = Instant::now();
-        let out = match self.system.solve_spd(values, rhs) {
+        let out = match self.system.factor_spd(values) {
             Err(SparseError::NotPositiveDefinite) => {
                 self.stats.lu_fallbacks += 1;
-                self.system.solve_lu(values, rhs)
+                self.system.factor_lu(values)
             }
             other => other,
         };
+        self.stats.factorisations += 1;
+        self.stats.solve_s += t0.elapsed().as_secs_f64();
+        Ok(out?)
+    }
+
+    /// Solve K d = rhs with a factorisation from [`Assembler::factor`].
+    pub fn back_solve(&mut self, factor: &Factor, rhs: &[f64]) -> Result<Vec<f64>, FeError> {
+        let t0 = Instant::now();
+        let out = factor.solve(rhs);
         self.stats.solves += 1;
         self.stats.solve_s += t0.elapsed().as_secs_f64();
         Ok(out?)

@@ -10,6 +10,15 @@
 //!   reported by the rows before and after it. The first closing jump is the jump-in, the first
 //!   opening one the jump-out (its start is the displacement-controlled pull-off, −5/6 πγR
 //!   in the JKR limit).
+//! - **Limit points.** A curve traced by arc-length continuation ([`super::arclength`]) has no
+//!   jumps: it turns back at the folds of the S-curve. A fold is a row inside a schedule segment
+//!   where the drive reaches a local extremum (the drive reverses between its neighbours of the
+//!   same segment): the first local maximum is the jump-in fold (the approach can go no
+//!   deeper on the out-of-contact branch), the first local minimum the jump-out fold (the
+//!   retraction can go no further on the contact branch: the pull-off under this drive). An
+//!   elastic S-curve is one curve: the approach, traced through, already passes both. A curve with folds is reported
+//!   without jumps (near a fold the gap changes much faster than the drive, which the jump
+//!   test would misread).
 //! - **Contact radius** (every row): the outermost radius where the gap is below the law's
 //!   equilibrium gap z₀, i.e. where the LJ pressure changes sign from repulsive to attractive
 //!   ([`super::contact::Contact::contact_radius`]), as in the half-space solver.
@@ -43,6 +52,118 @@ pub struct Events {
     /// the first opening jump
     #[serde(skip_serializing_if = "Option::is_none")]
     pub jump_out: Option<Jump>,
+    /// on a traced curve: the first local maximum of the drive within a segment
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fold_in: Option<Row>,
+    /// on a traced curve: the first local minimum of the drive within a segment
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fold_out: Option<Row>,
+}
+
+/// The rows where the drive reaches a local extremum inside a segment: (row, is a maximum).
+pub fn limit_points(rows: &[Row]) -> Vec<(Row, bool)> {
+    rows.windows(3)
+        .filter(|w| w[0].segment == w[1].segment && w[1].segment == w[2].segment)
+        .filter_map(|w| {
+            let (before, after) = (w[1].drive_nm - w[0].drive_nm, w[2].drive_nm - w[1].drive_nm);
+            (before * after < 0.0).then_some((w[1], before > 0.0))
+        })
+        .collect()
+}
+
+/// True if the increment from row `a` to row `b` is part of a jump.
+pub fn jumping(a: &Row, b: &Row) -> bool {
+    let dg = b.gap_nm - a.gap_nm;
+    dg.abs() > JUMP_RATIO * (b.drive_nm - a.drive_nm).abs() && dg != 0.0
+}
+
+/// How far a curve stepped by Newton (`stepped`, its jump increments left out) lies from one
+/// traced by arc-length (`traced`): the largest distance of a stepped row from the traced
+/// polyline in the plane (drive/`length`, load/`force`), with that row and the number of rows
+/// compared. A distance rather than a load difference at equal drive, since near a fold the
+/// load is steep in the drive (infinitely so at the fold).
+pub fn curve_distance(
+    stepped: &[Row],
+    traced: &[Row],
+    length: f64,
+    force: f64,
+) -> (f64, Option<Row>, usize) {
+    let xy = |r: &Row| (r.drive_nm / length, r.load_nN / force);
+    let (mut worst, mut at, mut compared) = (0.0f64, None, 0);
+    for (i, r) in stepped.iter().enumerate() {
+        if i > 0 && jumping(&stepped[i - 1], r) {
+            continue;
+        }
+        let p = xy(r);
+        let nearest = traced
+            .windows(2)
+            .map(|w| {
+                let (a, b) = (xy(&w[0]), xy(&w[1]));
+                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                let len2 = dx * dx + dy * dy;
+                let f = if len2 > 0.0 {
+                    (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (p.0 - a.0 - f * dx).hypot(p.1 - a.1 - f * dy)
+            })
+            .fold(f64::INFINITY, f64::min);
+        if nearest.is_finite() {
+            compared += 1;
+            if nearest > worst {
+                worst = nearest;
+                at = Some(*r);
+            }
+        }
+    }
+    (worst, at, compared)
+}
+
+/// The pull-off through a machine spring of stiffness `k` from a traced curve: along `path`,
+/// the (δ, P) points of a retraction in order, the first local minimum of the drive
+/// Δ = δ + P/K (dP/dδ = −K there: the spring can hold the state no further), or of P itself
+/// for `k` = None (load control). The minimum is refined by the parabola through it and its
+/// neighbours against the chord length of the path; returns (Δ, P) there (for load control,
+/// (δ, P)). Any consistent units (scaled: δ/z₀, P/(πγR), K z₀/(πγR)).
+pub fn spring_pull_off(path: &[(f64, f64)], k: Option<f64>) -> Option<(f64, f64)> {
+    let value = |&(d, p): &(f64, f64)| match k {
+        Some(k) => d + p / k,
+        None => p,
+    };
+    let i = (1..path.len().saturating_sub(1)).find(|&i| {
+        value(&path[i]) <= value(&path[i - 1]) && value(&path[i]) < value(&path[i + 1])
+    })?;
+    let w = [path[i - 1], path[i], path[i + 1]];
+    let s1 = (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1);
+    let s2 = s1 + (w[2].0 - w[1].0).hypot(w[2].1 - w[1].1);
+    let s = [0.0, s1, s2];
+    let v = w.map(|q| value(&q));
+    // vertex of the parabola through (s_j, v_j)
+    let (d1, d2) = ((v[1] - v[0]) / s1, (v[2] - v[1]) / (s2 - s1));
+    let curvature = (d2 - d1) / s2;
+    let at = if curvature > 0.0 {
+        (0.5 * (s1 - d1 / curvature)).clamp(0.0, s2)
+    } else {
+        s1
+    };
+    let lagrange = |f: [f64; 3]| {
+        (0..3)
+            .map(|j| {
+                let basis: f64 = (0..3)
+                    .filter(|&m| m != j)
+                    .map(|m| (at - s[m]) / (s[j] - s[m]))
+                    .product();
+                f[j] * basis
+            })
+            .sum::<f64>()
+    };
+    let load = lagrange(w.map(|q| q.1));
+    let drive = match k {
+        Some(k) => lagrange(w.map(|q| q.0)) + load / k,
+        None => lagrange(w.map(|q| q.0)),
+    };
+    Some((drive, load))
 }
 
 /// Detect the events along `rows`.
@@ -57,10 +178,12 @@ pub fn detect(rows: &[Row]) -> Events {
             ev.pull_off = Some(*min);
         }
     }
-    let jumping = |a: &Row, b: &Row| {
-        let dg = b.gap_nm - a.gap_nm;
-        dg.abs() > JUMP_RATIO * (b.drive_nm - a.drive_nm).abs() && dg != 0.0
-    };
+    let folds = limit_points(rows);
+    ev.fold_in = folds.iter().find(|f| f.1).map(|f| f.0);
+    ev.fold_out = folds.iter().find(|f| !f.1).map(|f| f.0);
+    if !folds.is_empty() {
+        return ev;
+    }
     let mut i = 1;
     while i < rows.len() {
         if !jumping(&rows[i - 1], &rows[i]) {
@@ -95,7 +218,7 @@ pub fn detect(rows: &[Row]) -> Events {
 mod tests {
     use super::*;
 
-    fn row(drive: f64, gap: f64, load: f64) -> Row {
+    fn row(segment: usize, drive: f64, gap: f64, load: f64) -> Row {
         Row {
             time_s: 0.0,
             depth_nm: drive,
@@ -106,6 +229,7 @@ mod tests {
             gap_nm: gap,
             strain_energy_aJ: 0.0,
             damping_dissipated_aJ: 0.0,
+            segment,
         }
     }
 
@@ -113,17 +237,17 @@ mod tests {
     fn finds_the_jumps_and_the_passed_minimum() {
         // approach: gap follows −drive, then snaps from 2 to 0.9 at drive ≈ −2
         let rows = vec![
-            row(-3.0, 3.0, 0.0),
-            row(-2.5, 2.5, -0.1),
-            row(-2.0, 2.0, -0.3),
-            row(-1.99, 1.3, -1.0),
-            row(-1.98, 0.9, -0.8),
-            row(-1.5, 0.8, 1.0),
+            row(0, -3.0, 3.0, 0.0),
+            row(0, -2.5, 2.5, -0.1),
+            row(0, -2.0, 2.0, -0.3),
+            row(0, -1.99, 1.3, -1.0),
+            row(0, -1.98, 0.9, -0.8),
+            row(0, -1.5, 0.8, 1.0),
             // retraction: the load passes a minimum, then the gap opens fast
-            row(-2.5, 1.0, -1.6),
-            row(-3.0, 1.1, -1.2),
-            row(-3.01, 2.9, -0.05),
-            row(-3.5, 3.5, 0.0),
+            row(1, -2.5, 1.0, -1.6),
+            row(1, -3.0, 1.1, -1.2),
+            row(1, -3.01, 2.9, -0.05),
+            row(1, -3.5, 3.5, 0.0),
         ];
         let e = detect(&rows);
         let ji = e.jump_in.unwrap();
@@ -131,7 +255,70 @@ mod tests {
         let jo = e.jump_out.unwrap();
         assert_eq!((jo.before.drive_nm, jo.after.drive_nm), (-3.0, -3.01));
         assert_eq!(e.pull_off.unwrap().load_nN, -1.6);
+        // the schedule's turn between the segments is no fold
+        assert!(e.fold_in.is_none() && e.fold_out.is_none());
         // a curve still falling at its end has no pull-off
         assert!(detect(&rows[..7]).pull_off.is_none());
+    }
+
+    #[test]
+    fn curve_distance_is_the_distance_to_the_traced_polyline() {
+        let traced = vec![row(0, 0.0, 1.0, 0.0), row(0, 2.0, 1.0, 2.0)];
+        // (1, 0) lies √2/2 from the diagonal, (3, 2) 1 beyond its end; a jump increment is left out
+        let stepped = vec![
+            row(0, 1.0, 1.0, 0.0),
+            row(0, 3.0, 1.0, 2.0),
+            row(0, 3.01, 5.0, 9.0),
+        ];
+        let (d, at, n) = curve_distance(&stepped, &traced, 1.0, 1.0);
+        assert!((d - 1.0).abs() < 1e-15 && at.unwrap().drive_nm == 3.0 && n == 2);
+        let (d, _, _) = curve_distance(&stepped[..1], &traced, 1.0, 2.0);
+        assert!((d - 0.5 / 1.25f64.sqrt()).abs() < 1e-15, "{d}");
+    }
+
+    #[test]
+    fn spring_pull_off_finds_the_point_of_slope_minus_k() {
+        // a retraction along P = (δ − 1)² − 1 (δ decreasing from 3 to −1): dP/dδ = 2(δ − 1)
+        // = −K at δ = 1 − K/2, where P = K²/4 − 1; load control: the minimum −1 at δ = 1
+        let path: Vec<(f64, f64)> = (0..=400)
+            .map(|i| 3.0 - 0.01 * i as f64)
+            .map(|d| (d, (d - 1.0) * (d - 1.0) - 1.0))
+            .collect();
+        for k in [0.5, 1.0, 2.0] {
+            let (drive, load) = spring_pull_off(&path, Some(k)).unwrap();
+            let d = 1.0 - k / 2.0;
+            // the parabola in chord length matches one in δ to O(h²) with steps h = 0.01
+            assert!((load - (k * k / 4.0 - 1.0)).abs() < 1e-4, "{k}: {load}");
+            assert!(
+                (drive - (d + (k * k / 4.0 - 1.0) / k)).abs() < 1e-4,
+                "{k}: {drive}"
+            );
+        }
+        let (d, p) = spring_pull_off(&path, None).unwrap();
+        assert!((d - 1.0).abs() < 1e-4 && (p + 1.0).abs() < 1e-8, "{d} {p}");
+        // a path that only falls has no pull-off
+        assert!(spring_pull_off(&path[..150], None).is_none());
+    }
+
+    #[test]
+    fn a_traced_s_curve_has_folds_not_jumps() {
+        // one elastic S-curve traced both ways: the approach turns at the jump-in fold
+        // (−3.5), comes back along the unstable branch to the jump-out fold (−4.3) and goes on
+        // into contact; the retraction passes the same folds in the other order
+        let rows = vec![
+            row(0, -6.0, 6.0, 0.0),
+            row(0, -3.5, 3.4, -0.3),
+            row(0, -4.3, 1.5, -0.9),
+            row(0, -1.0, 0.7, 1.0),
+            row(1, -2.5, 1.0, -1.6),
+            row(1, -4.3, 1.5, -0.9),
+            row(1, -3.5, 3.4, -0.3),
+            row(1, -6.0, 6.0, 0.0),
+        ];
+        let e = detect(&rows);
+        assert_eq!(e.fold_in.unwrap().drive_nm, -3.5);
+        assert_eq!(e.fold_out.unwrap().drive_nm, -4.3);
+        assert!(e.jump_in.is_none() && e.jump_out.is_none());
+        assert_eq!(limit_points(&rows).len(), 4);
     }
 }

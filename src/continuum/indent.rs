@@ -13,6 +13,7 @@
 //! pull-off: the indenter separates there and the run ends ([`IndentResult::separated_nN`]).
 
 use super::adhesion::{self, AdhesionParams};
+use super::arclength::{ArcLengthParams, Curve};
 use super::assembly::{Assembler, AssemblyStats, Solid};
 use super::contact::{gauss_points, Contact, Damping, SmoothPenalty, SurfaceLaw};
 use super::element::Kinematics;
@@ -150,11 +151,26 @@ impl Default for ContactParams {
     }
 }
 
+/// How the schedule is followed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// increments of the control, each solved by Newton (contact damping carries the jumps)
+    #[default]
+    Newton,
+    /// arc-length continuation through the folds ([`super::arclength`]; elastic, undamped)
+    Riks,
+}
+
 /// Increments and Newton.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct SolverParams {
-    /// Newton's parameters
+    /// Newton increments or arc-length continuation
+    pub method: Method,
+    /// arc-length step control (with `method = Riks`)
+    pub arclength: ArcLengthParams,
+    /// Newton's parameters (also the arc-length corrector's)
     pub newton: NewtonParams,
     /// increments per schedule segment (also the largest increment)
     pub increments: usize,
@@ -172,6 +188,8 @@ pub struct SolverParams {
 impl Default for SolverParams {
     fn default() -> Self {
         SolverParams {
+            method: Method::Newton,
+            arclength: ArcLengthParams::default(),
             newton: NewtonParams::default(),
             increments: 20,
             max_cutbacks: 12,
@@ -323,6 +341,18 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     if let Some(a) = &p.adhesion {
         a.validate().map_err(FeError::Params)?;
     }
+    if p.solver.method == Method::Riks {
+        if !p.material.prony.is_empty() {
+            return Err(FeError::Params(
+                "arc-length continuation traces an elastic curve: Prony relaxation needs the Newton method".into(),
+            ));
+        }
+        if p.adhesion.as_ref().is_some_and(|a| a.damping.is_some()) {
+            return Err(FeError::Params(
+                "arc-length continuation passes the folds without contact damping: remove the damping".into(),
+            ));
+        }
+    }
     if !p.start.is_finite() {
         return Err(FeError::Params(format!("start depth {} nm", p.start)));
     }
@@ -435,6 +465,8 @@ pub struct Row {
     pub strain_energy_aJ: f64,
     /// energy dissipated by contact damping so far, aJ
     pub damping_dissipated_aJ: f64,
+    /// schedule segment of the increment (0-based; the initial state is in segment 0)
+    pub segment: usize,
 }
 
 /// The deformed state at the end of a segment.
@@ -544,7 +576,7 @@ fn drive_of(machine: Machine, by_load: bool, v: f64) -> Drive {
 }
 
 /// The state at the end of segment `si` (`x` = (u, δ)).
-fn snapshot(
+pub(super) fn snapshot(
     si: usize,
     time: f64,
     x: &[f64],
@@ -648,6 +680,7 @@ pub fn run_indent(
             gap_nm: gaps.first().copied().unwrap_or(0.0),
             strain_energy_aJ: 0.0,
             damping_dissipated_aJ: 0.0,
+            segment: 0,
         }],
         snapshots: Vec::new(),
         stats: RunStats {
@@ -657,6 +690,26 @@ pub fn run_indent(
         failure: None,
         separated_nN: None,
     };
+    if p.solver.method == Method::Riks {
+        let mut curve = Curve {
+            asm: &mut asm,
+            solid: &solid,
+            contact: &contact,
+            force_floor,
+            newton: p.solver.newton,
+            contraction: p.solver.arclength.contraction,
+        };
+        let outcome = curve.trace(p, u, &mut result, progress);
+        result.stats.assembly = asm.stats;
+        result.stats.wall_s = t_start.elapsed().as_secs_f64();
+        return match outcome {
+            Ok(()) => Ok(result),
+            Err(why) => {
+                result.failure = Some(why);
+                Err(FeError::Stopped(Box::new(result)))
+            }
+        };
+    }
     let mut last_dv = 0.0;
     let (mut time, mut drive, mut load) = (0.0, p.start, ev0.load);
     let mut dissipated = 0.0;
@@ -735,6 +788,7 @@ pub fn run_indent(
                         gap_nm: gaps.first().copied().unwrap_or(0.0),
                         strain_energy_aJ: ev.strain_energy,
                         damping_dissipated_aJ: dissipated,
+                        segment: si,
                     };
                     result.rows.push(row);
                     result.stats.increments += 1;

@@ -11,7 +11,7 @@
 //! g = ∂²Π_c/∂u∂δ and k = ∂²Π_c/∂δ² (+K). It can be indefinite even when K_uu is definite (on
 //! the unstable branch under load control), so it is solved by bordering (CRATES.md pitfall):
 //! a = K_uu⁻¹(−r_u), b = K_uu⁻¹g, Δδ = (−r_δ − gᵀa)/(k − gᵀb), Δu = a − bΔδ — two solves with
-//! the definite stiffness, never a factorisation of the indefinite matrix.
+//! one factorisation of the definite stiffness, never a factorisation of the indefinite matrix.
 
 use super::assembly::{Assembler, Evaluation, Solid};
 use super::contact::Contact;
@@ -136,7 +136,7 @@ impl NewtonSystem for Driven<'_> {
             ),
             Drive::Load(p) => (ev.load - p, ev.load_stiffness, p),
         };
-        let gnorm = dot(&ev.gradient, &ev.gradient).sqrt();
+        let reference = ev.force_reference(self.force_floor).max(spring_force.abs());
         let mut residual = self.asm.residual(&ev.gradient);
         residual.push(r_delta);
         let mut values = ev.values;
@@ -147,11 +147,7 @@ impl NewtonSystem for Driven<'_> {
         Ok(Point {
             energy: ev.energy + self.drive.energy(delta),
             residual,
-            reference: gnorm
-                .max(ev.load.abs())
-                .max(spring_force.abs())
-                .max(1e-3 * ev.force_scale)
-                .max(self.force_floor),
+            reference,
             values,
         })
     }
@@ -160,12 +156,20 @@ impl NewtonSystem for Driven<'_> {
         let n = self.solid.dofs();
         let m = values.len() - n - 1;
         let (k_uu, border, k_dd) = (&values[..m], &values[m..m + n], values[m + n]);
-        let mut a = self.asm.solve(k_uu, &rhs[..n]).map_err(|e| e.to_string())?;
+        let factor = self.asm.factor(k_uu).map_err(|e| e.to_string())?;
+        let mut a = self
+            .asm
+            .back_solve(&factor, &rhs[..n])
+            .map_err(|e| e.to_string())?;
         if let Drive::Depth(_) = self.drive {
             a.push(0.0);
             return Ok(a);
         }
-        let b = self.asm.solve(k_uu, border).map_err(|e| e.to_string())?;
+        // the second solve reuses the factorisation of K_uu
+        let b = self
+            .asm
+            .back_solve(&factor, border)
+            .map_err(|e| e.to_string())?;
         let schur = k_dd - dot(border, &b);
         let scale = k_dd.abs().max(dot(border, border).sqrt());
         // a vanishing Schur complement is a limit point of the load (or no contact yet

@@ -19,6 +19,7 @@
 //!   depth as an extra unknown, bordered solves).
 //! - [`events`]: jump-in, jump-out and pull-off from the rows; the contact radius definition.
 //! - [`newton`]: Newton with line search (Params/Info/Error).
+//! - [`arclength`]: Riks arc-length continuation through the folds of the S-curve.
 //! - [`indent`]: the driver, [`run_indent`] on [`IndentParams`] → [`IndentResult`].
 //! - [`output`]: CSV, summary, plots and VTU files ([`IndentResult::write`]).
 
@@ -26,6 +27,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
 pub mod adhesion;
+pub mod arclength;
 pub mod assembly;
 pub mod contact;
 pub mod damping;

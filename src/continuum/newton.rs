@@ -104,7 +104,19 @@ pub trait NewtonSystem {
     fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, String>;
 }
 
-fn norm(v: &[f64]) -> f64 {
+/// The convergence test on a residual history (the last entry is the current residual):
+/// below the tolerance relative to the `reference` force, or stalled at round-off.
+pub fn converged(residuals: &[f64], reference: f64, params: &NewtonParams) -> bool {
+    let (Some(&rn), Some(&r0)) = (residuals.last(), residuals.first()) else {
+        return false;
+    };
+    let stalled = residuals.len() > 1
+        && rn <= params.stagnation * r0
+        && rn > 0.5 * residuals[residuals.len() - 2];
+    rn <= (params.rtol * reference).max(params.atol) || stalled
+}
+
+pub(crate) fn norm(v: &[f64]) -> f64 {
     v.iter().map(|a| a * a).sum::<f64>().sqrt()
 }
 
@@ -120,11 +132,7 @@ pub fn solve(
     loop {
         let rn = norm(&pt.residual);
         info.residuals.push(rn);
-        let r0 = info.residuals[0];
-        let stalled = info.residuals.len() > 1
-            && rn <= params.stagnation * r0
-            && rn > 0.5 * info.residuals[info.residuals.len() - 2];
-        if rn <= (params.rtol * pt.reference).max(params.atol) || stalled {
+        if converged(&info.residuals, pt.reference, params) {
             return Ok(info);
         }
         if info.iterations >= params.max_iterations {

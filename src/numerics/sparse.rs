@@ -78,29 +78,23 @@ impl SparseSystem {
         self.n
     }
 
-    fn matrix(&self, values: &[f64], rhs: &[f64]) -> Result<SparseColMat<usize, f64>, SparseError> {
+    fn matrix(&self, values: &[f64]) -> Result<SparseColMat<usize, f64>, SparseError> {
         if values.len() != self.entries {
             return Err(SparseError::Length {
                 expected: self.entries,
                 got: values.len(),
             });
         }
-        if rhs.len() != self.n {
-            return Err(SparseError::Length {
-                expected: self.n,
-                got: rhs.len(),
-            });
-        }
-        if !values.iter().chain(rhs).all(|v| v.is_finite()) {
+        if !values.iter().all(|v| v.is_finite()) {
             return Err(SparseError::NonFinite);
         }
         SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, values)
             .map_err(|e| SparseError::Pattern(format!("{e:?}")))
     }
 
-    /// Solve a symmetric positive-definite system by Cholesky (lower triangle read).
-    pub fn solve_spd(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
-        let a = self.matrix(values, rhs)?;
+    /// Factorise a symmetric positive-definite matrix by Cholesky (lower triangle read).
+    pub fn factor_spd(&mut self, values: &[f64]) -> Result<Factor, SparseError> {
+        let a = self.matrix(values)?;
         if self.llt.is_none() {
             let sym = SymbolicLlt::try_new(a.symbolic(), Side::Lower)
                 .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
@@ -109,12 +103,15 @@ impl SparseSystem {
         let sym = self.llt.clone().expect("symbolic Cholesky just built");
         let llt = Llt::try_new_with_symbolic(sym, a.as_ref(), Side::Lower)
             .map_err(|_| SparseError::NotPositiveDefinite)?;
-        finite_solution(llt.solve(column(rhs)))
+        Ok(Factor {
+            n: self.n,
+            kind: Kind::Llt(llt),
+        })
     }
 
-    /// Solve a general (possibly indefinite) system by LU with partial pivoting.
-    pub fn solve_lu(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
-        let a = self.matrix(values, rhs)?;
+    /// Factorise a general (possibly indefinite) matrix by LU with partial pivoting.
+    pub fn factor_lu(&mut self, values: &[f64]) -> Result<Factor, SparseError> {
+        let a = self.matrix(values)?;
         if self.lu.is_none() {
             let sym = SymbolicLu::try_new(a.symbolic())
                 .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
@@ -122,8 +119,65 @@ impl SparseSystem {
         }
         let sym = self.lu.clone().expect("symbolic LU just built");
         let lu = Lu::try_new_with_symbolic(sym, a.as_ref()).map_err(|_| SparseError::Singular)?;
-        finite_solution(lu.solve(column(rhs)))
+        Ok(Factor {
+            n: self.n,
+            kind: Kind::Lu(Box::new(lu)),
+        })
     }
+
+    /// Solve a symmetric positive-definite system by Cholesky (lower triangle read).
+    pub fn solve_spd(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
+        check_rhs(self.n, rhs)?;
+        self.factor_spd(values)?.solve(rhs)
+    }
+
+    /// Solve a general (possibly indefinite) system by LU with partial pivoting.
+    pub fn solve_lu(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
+        check_rhs(self.n, rhs)?;
+        self.factor_lu(values)?.solve(rhs)
+    }
+}
+
+enum Kind {
+    Llt(Llt<usize, f64>),
+    Lu(Box<Lu<usize, f64>>),
+}
+
+/// A numeric factorisation, kept to solve several right-hand sides with one matrix (the two
+/// solves of a bordered system).
+pub struct Factor {
+    n: usize,
+    kind: Kind,
+}
+
+impl Factor {
+    /// True if this is an LU factorisation (the matrix was not positive definite).
+    pub fn is_lu(&self) -> bool {
+        matches!(self.kind, Kind::Lu(_))
+    }
+
+    /// Solve A x = rhs.
+    pub fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
+        check_rhs(self.n, rhs)?;
+        let b = column(rhs);
+        finite_solution(match &self.kind {
+            Kind::Llt(f) => f.solve(b),
+            Kind::Lu(f) => f.solve(b),
+        })
+    }
+}
+
+fn check_rhs(n: usize, rhs: &[f64]) -> Result<(), SparseError> {
+    if rhs.len() != n {
+        return Err(SparseError::Length {
+            expected: n,
+            got: rhs.len(),
+        });
+    }
+    if !rhs.iter().all(|v| v.is_finite()) {
+        return Err(SparseError::NonFinite);
+    }
+    Ok(())
 }
 
 fn column(v: &[f64]) -> Mat<f64> {
@@ -182,6 +236,13 @@ mod tests {
         assert!(residual(&pos, &val2, &x2, &b) < 1e-9);
         let y = sys.solve_lu(&val, &b).unwrap();
         assert!(residual(&pos, &val, &y, &b) < 1e-9);
+        // one numeric factorisation, several right-hand sides
+        let f = sys.factor_spd(&val).unwrap();
+        let c: Vec<f64> = (0..n).map(|i| (i as f64 * 0.11).cos()).collect();
+        for rhs in [&b, &c] {
+            assert!(residual(&pos, &val, &f.solve(rhs).unwrap(), rhs) < 1e-9);
+        }
+        assert!(!f.is_lu() && sys.factor_lu(&val).unwrap().is_lu());
     }
 
     #[test]

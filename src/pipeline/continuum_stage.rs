@@ -5,8 +5,9 @@
 //! driven directly, through a machine spring (`machine.stiffness`) or under load control; the
 //! schedule may start clear of the surface.
 //!
-//! Physics the FE does not model yet is refused by name rather than ignored: arc-length
-//! (`solver.method = "riks"`), the thermal shift computed from `[turf]` tubes
+//! `solver.method = "riks"` traces the curve by arc-length continuation through its folds
+//! (elastic, undamped; [`crate::continuum::arclength`]). Physics the FE does not model yet is
+//! refused by name rather than ignored: the thermal shift computed from `[turf]` tubes
 //! (`thermal_shift = true`), and the load-control machine springs k₁, k₂. The engine's own
 //! files (CSV, plots, VTU) go under `continuum/` in the output folder.
 
@@ -205,11 +206,11 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
     let mut solver = SolverParams::default();
     let mut kinematics = crate::continuum::element::Kinematics::Finite;
     if let Some(sv) = &s.solver {
-        if sv.method == Method::Riks {
-            return Err(not_built(
-                "arc-length continuation (solver.method = \"riks\")",
-            ));
-        }
+        solver.method = match sv.method {
+            Method::Newton => crate::continuum::indent::Method::Newton,
+            Method::Riks => crate::continuum::indent::Method::Riks,
+        };
+        solver.arclength.target_iterations = sv.target_iterations;
         kinematics = match sv.kinematics {
             Kinematics::Finite => crate::continuum::element::Kinematics::Finite,
             Kinematics::Small => crate::continuum::element::Kinematics::Small,
@@ -289,6 +290,11 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             .or(summary.events.pull_off.map(|r| r.load_nN));
         let named = [
             ("pull_off_nN", pull_off),
+            ("fold_in_load_nN", summary.events.fold_in.map(|r| r.load_nN)),
+            (
+                "fold_out_load_nN",
+                summary.events.fold_out.map(|r| r.load_nN),
+            ),
             (
                 "jump_in_load_nN",
                 summary.events.jump_in.map(|j| j.before.load_nN),

@@ -408,10 +408,11 @@ cells_per_zone = 12
 
     #[test]
     fn a_stage_that_cannot_run_is_an_error_naming_it_and_the_summary_is_kept() {
-        // theory runs first, then the continuum stage must refuse the arc-length it does not
-        // model yet, by name, and the theory result must stay in summary.json
+        // theory runs first, then the continuum stage must refuse arc-length on a relaxing
+        // material (an elastic curve has no time), by name, and the theory result must stay
+        // in summary.json
         let fe = format!(
-            "{SCENE}\n[schedule]\n[[schedule.segment]]\nkind = \"load\"\nto = \"5 nm\"\nrate = \"10 nm/s\"\n[solver]\nmethod = \"riks\"\n"
+            "{SCENE}\n[viscoelastic]\ng = [0.4]\ntau = [\"3 s\"]\n[schedule]\n[[schedule.segment]]\nkind = \"load\"\nto = \"5 nm\"\nrate = \"10 nm/s\"\n[solver]\nmethod = \"riks\"\n"
         )
         .replace("[halfspace]\ncells_per_zone = 12\n", "");
         let loaded = load_str(&fe, Path::new("p.toml"), &[]).unwrap();
@@ -423,10 +424,11 @@ cells_per_zone = 12
         let report = run(&loaded, &opts).unwrap();
         let e = report
             .failure
-            .expect("the continuum stage has no arc-length yet");
+            .expect("the continuum stage refuses arc-length with Prony terms");
         assert!(
-            e.to_string()
-                .starts_with("stage 'continuum' failed: arc-length continuation (solver.method = \"riks\") is not built"),
+            e.to_string().starts_with(
+                "stage 'continuum' failed: continuum parameters: arc-length continuation traces an elastic curve"
+            ),
             "{e}"
         );
         let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();

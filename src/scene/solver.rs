@@ -49,6 +49,10 @@ pub struct Solver {
     /// Halvings of a failing increment before the stage gives up. Default 10.
     #[serde(default = "default_cutbacks")]
     pub max_cutbacks: usize,
+    /// With `"riks"`: corrector iterations each arc-length step aims at (the step grows when
+    /// fewer were needed, shrinks when more), ≥ 1. Default 5.
+    #[serde(default = "default_target_iterations")]
+    pub target_iterations: usize,
 }
 
 fn default_method() -> Method {
@@ -69,6 +73,9 @@ fn default_increments() -> usize {
 fn default_cutbacks() -> usize {
     10
 }
+fn default_target_iterations() -> usize {
+    5
+}
 
 impl Default for Solver {
     fn default() -> Self {
@@ -79,6 +86,7 @@ impl Default for Solver {
             max_iterations: default_iterations(),
             increments: default_increments(),
             max_cutbacks: default_cutbacks(),
+            target_iterations: default_target_iterations(),
         }
     }
 }
@@ -88,5 +96,6 @@ impl Solver {
         c.number_in("solver.tolerance", self.tolerance.0, 0.0, 1.0, true);
         c.count_at_least("solver.max_iterations", self.max_iterations, 1);
         c.count_at_least("solver.increments", self.increments, 1);
+        c.count_at_least("solver.target_iterations", self.target_iterations, 1);
     }
 }

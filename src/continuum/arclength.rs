@@ -1,0 +1,485 @@
+//! Arc-length continuation (Riks, seed §4.3 and Fig 4.6): the equilibrium of an elastic solid
+//! against the indenter, r(u, δ) = ∂Π/∂u = 0, is one curve in (u, δ) whatever drives the
+//! indenter. Displacement control cannot pass its folds in δ (the S-curve's jump-in and
+//! jump-out), so Newton needs contact damping to jump; arc-length follows the curve through
+//! them, unstable branch included, and the jumps become limit points.
+//!
+//! Each step predicts along the unit tangent t of the curve (K_uu t_u + g t_δ = 0, with
+//! g = ∂²Π/∂u∂δ, in the norm ‖(u, δ)‖² = Σu² + δ²) by the arc length Δl, then corrects on the
+//! hyperplane through the prediction normal to t (Riks' linearised constraint). Each corrector
+//! iteration solves the bordered system [K_uu g; t_uᵀ t_δ] by bordering: a = K_uu⁻¹(−r),
+//! b = K_uu⁻¹g from one factorisation, Δδ = (−c − t_u·a)/(t_δ − t_u·b), Δu = a − bΔδ. Beyond a
+//! fold in δ, K_uu at fixed δ is indefinite: the factorisation falls back from Cholesky to LU
+//! ([`super::assembly::Assembler::factor`]). The next tangent is (−b, 1) of the last corrector
+//! iteration, oriented along the step just taken (the secant), so the path does not turn
+//! back on itself at a fold. Optionally ([`ArcLengthParams::contraction`]) the corrector keeps
+//! the factorisation while the residual contracts fast enough (modified Newton). Step control: Δl ← Δl·√(N_target/N) after a step of N iterations
+//! (at most ×[`ArcLengthParams::max_growth`]), halved on failure; no step advances the
+//! controlled variable by more than the schedule's largest increment.
+//!
+//! The drive only decides where a schedule segment ends and what the drive column holds: δ
+//! (displacement control), Δ = δ + P/K (a machine spring), or P (load control). A segment ends
+//! where its controlled variable first reaches the target in the segment's direction (found by
+//! a last correction with the constraint "control = target"). Under load control, a fold of
+//! P on an unloading segment is the pull-off: the indenter separates there, as in the Newton
+//! driver. Time has no meaning on an elastic curve: the time column advances by the control's
+//! travel over the segment's rate.
+
+use super::assembly::{Assembler, Evaluation, Solid};
+use super::contact::Contact;
+use super::element::Kinematics;
+use super::indent::{snapshot, IndentParams, IndentResult, Progress, Row, Segment};
+use super::machine::Machine;
+use super::newton::{converged, norm, NewtonParams};
+use crate::numerics::sparse::Factor;
+use serde::{Deserialize, Serialize};
+
+/// Arc-length parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ArcLengthParams {
+    /// corrector iterations a step aims at (Crisfield's I_d)
+    pub target_iterations: usize,
+    /// largest growth of Δl from one step to the next
+    pub max_growth: f64,
+    /// steps per schedule segment before the run stops (a curve that never reaches the target)
+    pub max_steps: usize,
+    /// modified Newton in the corrector: keep the factorisation of K_uu while each iteration
+    /// reduces the residual at least by this factor, refactorise otherwise (0: full Newton,
+    /// a factorisation per iteration)
+    pub contraction: f64,
+}
+
+impl Default for ArcLengthParams {
+    fn default() -> Self {
+        ArcLengthParams {
+            target_iterations: 5,
+            max_growth: 2.0,
+            max_steps: 5000,
+            contraction: 0.0,
+        }
+    }
+}
+
+/// The variable a schedule segment prescribes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Control {
+    /// the indenter depth δ
+    Depth,
+    /// the drive Δ = δ + P/K behind a spring of stiffness K (nN/nm)
+    Spring(f64),
+    /// the load P
+    Load,
+}
+
+impl Control {
+    /// The controlled variable at depth `delta` and load `load`.
+    pub fn value(&self, delta: f64, load: f64) -> f64 {
+        match *self {
+            Control::Depth => delta,
+            Control::Spring(k) => delta + load / k,
+            Control::Load => load,
+        }
+    }
+
+    /// Its derivative along the direction `t` = (t_u, t_δ) at the evaluation `ev`
+    /// (dP = g·t_u + k t_δ).
+    pub fn rate(&self, t: &[f64], ev: &Evaluation) -> f64 {
+        let n = t.len() - 1;
+        let d_load = || dot(&ev.load_gradient, &t[..n]) + ev.load_stiffness * t[n];
+        match *self {
+            Control::Depth => t[n],
+            Control::Spring(k) => t[n] + d_load() / k,
+            Control::Load => d_load(),
+        }
+    }
+}
+
+/// The extra equation of a corrector.
+enum Constraint<'c> {
+    /// t·(y − y_p) = 0
+    Plane { normal: &'c [f64], point: &'c [f64] },
+    /// the controlled variable equals a target
+    Target { control: Control, value: f64 },
+}
+
+impl Constraint<'_> {
+    /// Value, gradient in u (None: zero) and in δ, and whether the value is a force (then it
+    /// joins the residual norm; a linear constraint holds after the first iteration).
+    fn linearise<'e>(
+        &'e self,
+        y: &[f64],
+        ev: &'e Evaluation,
+    ) -> (f64, Option<&'e [f64]>, f64, bool) {
+        let n = y.len() - 1;
+        match *self {
+            Constraint::Plane { normal, point } => {
+                let c = normal
+                    .iter()
+                    .zip(y.iter().zip(point))
+                    .map(|(t, (a, b))| t * (a - b))
+                    .sum();
+                (c, Some(&normal[..n]), normal[n], false)
+            }
+            // in force units: P − K(Δ̂ − δ) and P − P̂, as the bordered Newton system has them
+            Constraint::Target { control, value } => match control {
+                Control::Depth => (y[n] - value, None, 1.0, false),
+                Control::Spring(k) => (
+                    ev.load - k * (value - y[n]),
+                    Some(&ev.load_gradient),
+                    ev.load_stiffness + k,
+                    true,
+                ),
+                Control::Load => (
+                    ev.load - value,
+                    Some(&ev.load_gradient),
+                    ev.load_stiffness,
+                    true,
+                ),
+            },
+        }
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// A converged point of the curve.
+pub struct Point {
+    /// (u, δ)
+    pub y: Vec<f64>,
+    /// the evaluation there (energy, load, ...)
+    pub ev: Evaluation,
+    /// K_uu⁻¹g from the last corrector iteration (the tangent is (−b, 1))
+    pub b: Vec<f64>,
+    /// corrector iterations that found it
+    pub iterations: usize,
+}
+
+impl Point {
+    /// The unit tangent (−b, 1)/‖·‖, oriented so that its product with `along` is positive.
+    pub fn tangent(&self, along: impl Fn(&[f64]) -> f64) -> Vec<f64> {
+        let mut t: Vec<f64> = self.b.iter().map(|b| -b).collect();
+        t.push(1.0);
+        let scale = norm(&t);
+        let sign = if along(&t) < 0.0 { -1.0 } else { 1.0 };
+        t.iter_mut().for_each(|v| *v *= sign / scale);
+        t
+    }
+}
+
+/// The equilibrium curve of an elastic solid against the indenter.
+pub struct Curve<'a> {
+    /// pattern and factorisations
+    pub asm: &'a mut Assembler,
+    /// the solid (no history)
+    pub solid: &'a Solid,
+    /// the contact (no damping)
+    pub contact: &'a Contact<'a>,
+    /// smallest reference force of the convergence test, nN
+    pub force_floor: f64,
+    /// the corrector's tolerances and iteration limit
+    pub newton: NewtonParams,
+    /// [`ArcLengthParams::contraction`]
+    pub contraction: f64,
+}
+
+impl Curve<'_> {
+    fn evaluate(&mut self, y: &[f64], tangent: bool) -> Result<Evaluation, String> {
+        let n = self.solid.dofs();
+        self.asm
+            .evaluate(
+                self.solid,
+                Some(self.contact),
+                (&y[..n], &[]),
+                0.0,
+                y[n],
+                tangent,
+            )
+            .map_err(|e| e.to_string())
+    }
+
+    /// Newton on r(u, δ) = 0 with one constraint, from `y`.
+    fn correct(&mut self, mut y: Vec<f64>, constraint: &Constraint) -> Result<Point, String> {
+        let n = self.solid.dofs();
+        let mut residuals = Vec::new();
+        let mut b = Vec::new();
+        let mut iteration = 0;
+        let mut factor: Option<Factor> = None;
+        // true if the last correction used a factorisation of the tangent where it was taken
+        let mut fresh = true;
+        loop {
+            let ev = self.evaluate(&y, true)?;
+            let r = self.asm.residual(&ev.gradient);
+            let (c, c_u, c_d, force) = constraint.linearise(&y, &ev);
+            let rn = (dot(&r, &r) + if force { c * c } else { 0.0 }).sqrt();
+            residuals.push(rn);
+            let reference = ev.force_reference(self.force_floor);
+            // the round-off stall test holds only for full Newton steps (a reused
+            // factorisation converges linearly)
+            let done = if fresh {
+                converged(&residuals, reference, &self.newton)
+            } else {
+                rn <= (self.newton.rtol * reference).max(self.newton.atol)
+            };
+            if iteration > 0 && done {
+                return Ok(Point {
+                    y,
+                    ev,
+                    b,
+                    iterations: iteration,
+                });
+            }
+            if iteration >= self.newton.max_iterations {
+                return Err(format!(
+                    "arc-length corrector: no convergence in {iteration} iterations (residuals {residuals:?})"
+                ));
+            }
+            let k = residuals.len();
+            let contracting = k > 1 && rn <= self.contraction * residuals[k - 2];
+            fresh = !(contracting && factor.is_some());
+            if fresh {
+                factor = Some(self.asm.factor(&ev.values).map_err(|e| e.to_string())?);
+            }
+            let factor = factor
+                .as_ref()
+                .expect("a factorisation was just made or kept");
+            let minus_r: Vec<f64> = r.iter().map(|v| -v).collect();
+            let a = self
+                .asm
+                .back_solve(factor, &minus_r)
+                .map_err(|e| e.to_string())?;
+            b = self
+                .asm
+                .back_solve(factor, &ev.load_gradient)
+                .map_err(|e| e.to_string())?;
+            let (ca, cb) = c_u.map_or((0.0, 0.0), |cu| (dot(cu, &a), dot(cu, &b)));
+            let schur = c_d - cb;
+            // the bordered matrix is regular on a smooth curve (its tangent is unique); a
+            // vanishing Schur complement means the constraint is tangent to the curve
+            if !(schur.abs() > 1e-12 * (c_d.abs() + cb.abs())) {
+                return Err(format!(
+                    "arc-length corrector: the constraint is tangent to the curve (t_δ − t_u·K⁻¹g = {schur:.3e})"
+                ));
+            }
+            let d_delta = (-c - ca) / schur;
+            for ((yi, ai), bi) in y.iter_mut().zip(&a).zip(&b) {
+                *yi += ai - bi * d_delta;
+            }
+            y[n] += d_delta;
+            iteration += 1;
+        }
+    }
+
+    /// The equilibrium at fixed control from the guess `y` (a segment's end, or the start).
+    pub fn at(&mut self, y: Vec<f64>, control: Control, value: f64) -> Result<Point, String> {
+        self.correct(y, &Constraint::Target { control, value })
+    }
+
+    /// One step of length `dl` from `from` along its unit tangent `t`.
+    pub fn step(&mut self, from: &[f64], t: &[f64], dl: f64) -> Result<Point, String> {
+        let predicted: Vec<f64> = from.iter().zip(t).map(|(y, t)| y + dl * t).collect();
+        self.correct(
+            predicted.clone(),
+            &Constraint::Plane {
+                normal: t,
+                point: &predicted,
+            },
+        )
+    }
+}
+
+/// The schedule's controlled variable on segment `seg`, its target and the drive's rate
+/// (None for a hold, which changes nothing on an elastic curve).
+fn segment_control(seg: &Segment, machine: Machine) -> Option<(Control, f64, f64)> {
+    let (to, rate) = match *seg {
+        Segment::Load { to, rate }
+        | Segment::Unload { to, rate }
+        | Segment::Approach { to, rate } => (to, rate),
+        Segment::Hold { .. } => return None,
+    };
+    let control = match machine {
+        Machine::Spring { stiffness } => Control::Spring(stiffness),
+        Machine::Load if !matches!(seg, Segment::Approach { .. }) => Control::Load,
+        _ => Control::Depth,
+    };
+    Some((control, to, rate))
+}
+
+impl Curve<'_> {
+    fn row(&self, pt: &Point, time: f64, segment: usize, machine: Machine, small: bool) -> Row {
+        let n = self.solid.dofs();
+        let delta = pt.y[n];
+        let current: Vec<[f64; 2]> = self
+            .solid
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, x)| [x[0] + pt.y[2 * i], x[1] + pt.y[2 * i + 1]])
+            .collect();
+        let profile = self
+            .contact
+            .profile(&current, &self.solid.nodes, delta, small);
+        Row {
+            time_s: time,
+            depth_nm: delta,
+            load_nN: pt.ev.load,
+            contact_radius_nm: self.contact.contact_radius(&profile),
+            iterations: pt.iterations,
+            drive_nm: match machine {
+                Machine::Spring { stiffness } => {
+                    Control::Spring(stiffness).value(delta, pt.ev.load)
+                }
+                _ => delta,
+            },
+            gap_nm: profile.first().map_or(0.0, |q| q.gap),
+            strain_energy_aJ: pt.ev.strain_energy,
+            damping_dissipated_aJ: 0.0,
+            segment,
+        }
+    }
+
+    /// Trace the schedule of `p` from the state `y` (u, δ = start): rows, snapshots and, under
+    /// load control, the separation go into `result`. An error says why the curve stopped
+    /// (the rows so far are kept in `result`).
+    pub fn trace(
+        &mut self,
+        p: &IndentParams,
+        y: Vec<f64>,
+        result: &mut IndentResult,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<(), String> {
+        let n = self.solid.dofs();
+        let small = p.kinematics == Kinematics::Small;
+        let mut pt = self.at(y, Control::Depth, p.start)?;
+        result.rows[0] = self.row(&pt, 0.0, 0, p.machine, small);
+        let mut time = 0.0;
+        let mut dl: Option<f64> = None;
+        for (si, seg) in p.schedule.iter().enumerate() {
+            let Some((control, target, rate)) = segment_control(seg, p.machine) else {
+                if let Segment::Hold { time: hold } = *seg {
+                    time += hold;
+                }
+                continue;
+            };
+            let v0 = control.value(pt.y[n], pt.ev.load);
+            let dir = (target - v0).signum();
+            let dv_max = (target - v0).abs() / p.solver.increments.max(1) as f64;
+            let mut t = pt.tangent(|t| dir * control.rate(t, &pt.ev));
+            let mut length = dl.unwrap_or(dv_max / control.rate(&t, &pt.ev).abs());
+            if !(length.is_finite() && length > 0.0) {
+                return Err(format!(
+                    "segment {si} ({seg:?}): the controlled variable does not change along the curve at its start (no contact under load control?)"
+                ));
+            }
+            let mut advancing = true;
+            let (mut cutbacks, mut steps) = (0, 0);
+            loop {
+                steps += 1;
+                if steps > p.solver.arclength.max_steps {
+                    return Err(format!(
+                        "segment {si} ({seg:?}): {} arc-length steps without reaching the target",
+                        p.solver.arclength.max_steps
+                    ));
+                }
+                // no step advances the control by more than the largest increment
+                let speed = control.rate(&t, &pt.ev).abs();
+                let l = if speed > 0.0 {
+                    length.min(dv_max / speed)
+                } else {
+                    length
+                };
+                let next = match self.step(&pt.y, &t, l) {
+                    Ok(next) => next,
+                    Err(e) => {
+                        cutbacks += 1;
+                        result.stats.cutbacks += 1;
+                        length = 0.5 * l;
+                        if cutbacks > p.solver.max_cutbacks {
+                            return Err(format!(
+                                "segment {si} ({seg:?}): arc-length step {l:.3e} failed after {cutbacks} halvings at δ = {:.6} nm: {e}",
+                                pt.y[n]
+                            ));
+                        }
+                        continue;
+                    }
+                };
+                cutbacks = 0;
+                let v = control.value(pt.y[n], pt.ev.load);
+                let v_next = control.value(next.y[n], next.ev.load);
+                let reached = dir * (v_next - target) >= 0.0;
+                let next = if reached {
+                    // the segment ends within this step: correct onto control = target
+                    let f = (target - v) / (v_next - v);
+                    let guess: Vec<f64> =
+                        pt.y.iter()
+                            .zip(&next.y)
+                            .map(|(a, b)| a + f * (b - a))
+                            .collect();
+                    self.at(guess, control, target)?
+                } else {
+                    next
+                };
+                let v_end = control.value(next.y[n], next.ev.load);
+                time += (v_end - v).abs() / rate;
+                result.stats.increments += 1;
+                result.stats.newton_iterations += next.iterations;
+                let row = self.row(&next, time, si, p.machine, small);
+                result.rows.push(row);
+                progress(&Progress {
+                    segment: si,
+                    segments: p.schedule.len(),
+                    row,
+                });
+                let secant: Vec<f64> = next.y.iter().zip(&pt.y).map(|(a, b)| a - b).collect();
+                t = next.tangent(|t| dot(t, &secant));
+                let its = next.iterations.max(1) as f64;
+                let target_its = p.solver.arclength.target_iterations as f64;
+                length = l * (target_its / its).sqrt().min(p.solver.arclength.max_growth);
+                pt = next;
+                if reached {
+                    break;
+                }
+                let now_advancing = dir * control.rate(&t, &pt.ev) > 0.0;
+                if control == Control::Load && dir < 0.0 && advancing && !now_advancing {
+                    // the load passed its minimum: under load control the indenter separates
+                    let last = &result.rows[result.rows.len() - 2..];
+                    result.separated_nN = Some(last[0].load_nN.min(last[1].load_nN));
+                    result.snapshots.push(
+                        snapshot(si, time, &pt.y, self.solid, &[]).map_err(|e| e.to_string())?,
+                    );
+                    return Ok(());
+                }
+                advancing = now_advancing;
+            }
+            dl = Some(length);
+            result
+                .snapshots
+                .push(snapshot(si, time, &pt.y, self.solid, &[]).map_err(|e| e.to_string())?);
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_rates_are_the_derivatives_of_the_control_values() {
+        // P(δ, u) linearised: dP = g·du + k dδ; Δ = δ + P/K
+        let ev = Evaluation {
+            load: 3.0,
+            load_gradient: vec![0.5, -2.0],
+            load_stiffness: 4.0,
+            ..Evaluation::default()
+        };
+        let t = [0.3, 0.1, -0.7];
+        let d_load = 0.5 * 0.3 - 2.0 * 0.1 + 4.0 * -0.7;
+        assert_eq!(Control::Depth.rate(&t, &ev), -0.7);
+        assert!((Control::Load.rate(&t, &ev) - d_load).abs() < 1e-15);
+        assert!((Control::Spring(2.0).rate(&t, &ev) - (-0.7 + d_load / 2.0)).abs() < 1e-15);
+        assert_eq!(Control::Spring(2.0).value(1.0, 3.0), 2.5);
+    }
+}
