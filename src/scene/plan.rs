@@ -293,21 +293,8 @@ fn derive_contact(scene: &Scene, d: &mut Derived) {
         }
     }
     if let Some(a) = &scene.adhesion {
-        d.thermal_shift_nm = match a.thermal_shift {
-            ThermalShift::Off => Some(0.0),
-            ThermalShift::Amplitude(u) => Some(u.0),
-            ThermalShift::FromTubes => match &scene.turf {
-                Some(t) => crate::theory::thermal::Cantilever {
-                    length: t.growth.length.0,
-                    r_outer: t.tube.r_o.0,
-                    r_inner: t.tube.r_i.0,
-                    youngs: t.tube.youngs.0,
-                }
-                .rms_tip_amplitude(a.temperature.0)
-                .ok(),
-                None => None,
-            },
-        };
+        // an error (no [turf]) is reported by check_users; the derived value is then absent
+        d.thermal_shift_nm = a.shift_nm(scene.turf.as_ref()).ok();
     }
 }
 
@@ -565,7 +552,7 @@ fn check_users(
         if a.thermal_shift == ThermalShift::FromTubes && scene.turf.is_none() {
             c.bad(
                 "adhesion.thermal_shift",
-                "true needs [turf] (tube length, radii, modulus) to compute the amplitude u (seed eq. 5.9); give a length instead, e.g. \"5 nm\"",
+                "true needs [turf] (turf.growth.length, turf.tube.r_o, turf.tube.r_i, turf.tube.youngs) to compute the amplitude u (seed eq. 5.9); give a length instead, e.g. \"5 nm\"",
             );
         }
     }
@@ -732,13 +719,16 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
             "largest LJ tension",
         );
     }
-    if let Some(u) = d.thermal_shift_nm {
-        put(
-            "thermal shift u",
-            u,
-            "nm",
-            "seed eq. 5.9 when from the tubes",
-        );
+    if let (Some(u), Some(a)) = (d.thermal_shift_nm, &scene.adhesion) {
+        let note = match a.thermal_shift {
+            ThermalShift::FromTubes => format!(
+                "seed eq. 5.9: RMS tip amplitude of the [turf] tubes at {} K",
+                sig(a.temperature.0)
+            ),
+            ThermalShift::Amplitude(_) => "given (adhesion.thermal_shift)".into(),
+            ThermalShift::Off => "none (adhesion.thermal_shift = false)".into(),
+        };
+        put("thermal shift u", u, "nm", &note);
     }
     if let Some(x) = d.tabor_mu {
         put("Tabor μ", x, "", "(Rγ²/(E*² z0³))^(1/3)");
