@@ -224,13 +224,20 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         solver.newton.max_iterations = sv.max_iterations;
         solver.newton.rtol = sv.tolerance.0;
     }
-    // the plan's mesh sizes (given or derived, as `turf check` prints them) are the ones meshed
+    // the plan's mesh sizes (given or derived, as `turf check` prints them) are the ones meshed;
+    // without them (a card: moduli unknown before the run) the given ones, the rest sized by
+    // the engine from the card's initial moduli
     let mut mesh = MeshParams::default();
     if let Some(m) = &scene.derived.mesh {
         mesh.width = Some(m.width_nm);
         mesh.depth = Some(m.depth_nm);
         mesh.smallest = Some(m.smallest_nm);
         mesh.grading = m.grading - 1.0;
+    } else if let Some(m) = &s.mesh {
+        mesh.width = m.width.map(|l| l.0);
+        mesh.depth = m.depth.map(|l| l.0);
+        mesh.smallest = m.smallest.map(|l| l.0);
+        mesh.grading = m.grading.0 - 1.0;
     }
     Ok(IndentParams {
         indenter,
@@ -246,9 +253,35 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
     })
 }
 
+/// `material.model = "card"` without `material.card`: the scene with the card this run's
+/// homogenize stage wrote (`material.json` in the output folder); `None` for any other
+/// material.
+fn with_fitted_card(
+    scene: &ResolvedScene,
+    ctx: &StageContext,
+) -> Result<Option<ResolvedScene>, StageError> {
+    match &scene.scene.material {
+        Some(m) if m.model == MaterialModel::Card && m.card.is_none() => {}
+        _ => return Ok(None),
+    }
+    if !ctx.previous.iter().any(|r| r.stage == Stage::Homogenize) {
+        return Err(failed(
+            "material.model = \"card\" without material.card indents the card of this run's \
+             homogenize stage, which has not run"
+                .into(),
+        ));
+    }
+    let mut fitted = scene.clone();
+    if let Some(m) = fitted.scene.material.as_mut() {
+        m.card = Some(ctx.out_dir.join("material.json"));
+    }
+    Ok(Some(fitted))
+}
+
 /// Run the stage.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
-    let params = indent_params(scene)?;
+    let fitted = with_fitted_card(scene, ctx)?;
+    let params = indent_params(fitted.as_ref().unwrap_or(scene))?;
     let (result, failure): (IndentResult, Option<String>) = match run_indent(&params, &mut |_| {}) {
         Ok(r) => (r, None),
         Err(crate::continuum::FeError::Stopped(r)) => {

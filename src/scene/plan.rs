@@ -26,7 +26,7 @@ use std::fmt;
 use std::path::PathBuf;
 
 /// A stage of the pipeline, in the order stages run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Stage {
     /// closed forms: Hertz, JKR, DMT, Maugis–Dugdale (microseconds)
@@ -439,7 +439,7 @@ fn plan_continuum(
         (None, None) => {
             c.bad(
                 key,
-                "is missing: the expected contact radius is unknown before the run (load control on a card material), so give mesh.width, mesh.depth and mesh.smallest",
+                "is missing: the expected contact radius is unknown before the run (the schedule never indents), so give mesh.width, mesh.depth and mesh.smallest",
             );
             f64::NAN
         }
@@ -450,7 +450,11 @@ fn plan_continuum(
             by_contact.min(p / ELEMENTS_PER_PROCESS_ZONE)
         })
     });
-    d.mesh = Some(MeshSizes {
+    // a card's moduli are known only when the run reads it: the sizes the scene does not
+    // give are then derived by the FE engine from the card (the same rules, with E*)
+    let card = mat.model == MaterialModel::Card;
+    let all_given = mesh.width.is_some() && mesh.depth.is_some() && mesh.smallest.is_some();
+    d.mesh = (!card || all_given).then(|| MeshSizes {
         width_nm: pick(
             mesh.width,
             a.map(|a| WIDTH_PER_CONTACT_RADIUS * a),
@@ -470,10 +474,15 @@ fn plan_continuum(
         Kinematics::Finite => "finite deformation",
         Kinematics::Small => "small strain",
     };
+    let sizing = if d.mesh.is_none() {
+        "; mesh sizes not given are derived at run time from the card's initial moduli"
+    } else {
+        ""
+    };
     stages.push(PlannedStage {
         stage: Stage::Continuum,
         why: format!(
-            "[schedule] + [indenter] + [material]: axisymmetric FE indentation, {kin}, {} solver, {} control",
+            "[schedule] + [indenter] + [material]: axisymmetric FE indentation, {kin}, {} solver, {} control{sizing}",
             match solver.method {
                 super::solver::Method::Newton => "Newton",
                 super::solver::Method::Riks => "Riks arc-length",
