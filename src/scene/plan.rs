@@ -756,7 +756,12 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
         }
     }
     if let Some(a) = d.contact_radius_nm {
-        put("expected contact radius", a, "nm", "sets the mesh defaults");
+        let note = if d.mesh.is_some() {
+            "sets the mesh defaults"
+        } else {
+            "by geometry; the mesh is sized at run time from the card"
+        };
+        put("expected contact radius", a, "nm", note);
     }
     if let Some(m) = &d.mesh {
         put("mesh.width", m.width_nm, "nm", "");
