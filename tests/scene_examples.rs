@@ -24,6 +24,7 @@ fn every_scene_in_the_folder_loads_and_is_tested_here() {
         "hertz.toml",
         "hyperfoam_indent.toml",
         "jkr_sphere.toml",
+        "quickstart.toml",
         "rods_cantilever.toml",
         "seed_card.toml",
         "turf_compression.toml",
@@ -141,6 +142,27 @@ fn turf_indent_is_the_whole_chain_with_the_thermal_amplitude_of_its_tubes() {
     let chi = l.base.derived.machine_series_stiffness.unwrap();
     let expect = 1.0 / (1.0 / 210e6 + 1.0 / 100.0);
     assert!((chi / expect - 1.0).abs() < ROUNDING);
+}
+
+#[test]
+fn quickstart_is_the_chain_on_a_small_turf_with_its_tubes_thermal_shift() {
+    assert_eq!(
+        stages("quickstart.toml"),
+        [Stage::Discrete, Stage::Homogenize, Stage::Continuum]
+    );
+    let l = load(&scenes_dir().join("quickstart.toml"), &[]).unwrap();
+    // seed eq. 5.9 scales as l^(3/2): 2 µm tubes shift by (2/7)^(3/2) of the 7 µm tubes' u
+    let u = l.base.derived.thermal_shift_nm.unwrap();
+    let seed_u = turf::theory::thermal::Cantilever::seed()
+        .rms_tip_amplitude(300.0)
+        .unwrap();
+    assert!(
+        (u / (seed_u * (2.0f64 / 7.0).powf(1.5)) - 1.0).abs() < ROUNDING,
+        "u = {u}"
+    );
+    assert_eq!(l.base.derived.tube_count, Some(9.0));
+    // a card's moduli are known only at run time: no mesh sizes derived before the run
+    assert!(l.base.derived.mesh.is_none());
 }
 
 #[test]

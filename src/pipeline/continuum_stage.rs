@@ -5,10 +5,11 @@
 //! driven directly, through a machine spring (`machine.stiffness`) or under load control; the
 //! schedule may start clear of the surface.
 //!
+//! `thermal_shift = true` shifts the law by the RMS tip amplitude u of the scene's `[turf]`
+//! tubes (seed eq. 5.9, [`crate::theory::thermal`]), reported as `thermal_amplitude_nm`.
 //! `solver.method = "riks"` traces the curve by arc-length continuation through its folds
 //! (elastic, undamped; [`crate::continuum::arclength`]). Physics the FE does not model yet is
-//! refused by name rather than ignored: the thermal shift computed from `[turf]` tubes
-//! (`thermal_shift = true`), and the load-control machine springs k₁, k₂. The engine's own
+//! refused by name rather than ignored: the load-control machine springs k₁, k₂. The engine's own
 //! files (CSV, plots, VTU) go under `continuum/` in the output folder.
 
 use super::{StageContext, StageError, StageOutput};
@@ -58,9 +59,12 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
                     .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?
                     .into(),
                 ThermalShift::FromTubes => {
-                    return Err(not_built(
-                        "the thermal shift from the [turf] tubes (adhesion.thermal_shift = true; give a length)",
-                    ))
+                    let u = a
+                        .shift_nm(s.turf.as_ref())
+                        .map_err(|e| failed(format!("adhesion.thermal_shift = true: {e}")))?;
+                    ThermallyShifted::new(base, u)
+                        .map_err(|e| failed(format!("adhesion.thermal_shift = true: {e}")))?
+                        .into()
                 }
             };
             Some(AdhesionParams {
@@ -220,13 +224,20 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         solver.newton.max_iterations = sv.max_iterations;
         solver.newton.rtol = sv.tolerance.0;
     }
-    // the plan's mesh sizes (given or derived, as `turf check` prints them) are the ones meshed
+    // the plan's mesh sizes (given or derived, as `turf check` prints them) are the ones meshed;
+    // without them (a card: moduli unknown before the run) the given ones, the rest sized by
+    // the engine from the card's initial moduli
     let mut mesh = MeshParams::default();
     if let Some(m) = &scene.derived.mesh {
         mesh.width = Some(m.width_nm);
         mesh.depth = Some(m.depth_nm);
         mesh.smallest = Some(m.smallest_nm);
         mesh.grading = m.grading - 1.0;
+    } else if let Some(m) = &s.mesh {
+        mesh.width = m.width.map(|l| l.0);
+        mesh.depth = m.depth.map(|l| l.0);
+        mesh.smallest = m.smallest.map(|l| l.0);
+        mesh.grading = m.grading.0 - 1.0;
     }
     Ok(IndentParams {
         indenter,
@@ -242,9 +253,35 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
     })
 }
 
+/// `material.model = "card"` without `material.card`: the scene with the card this run's
+/// homogenize stage wrote (`material.json` in the output folder); `None` for any other
+/// material.
+fn with_fitted_card(
+    scene: &ResolvedScene,
+    ctx: &StageContext,
+) -> Result<Option<ResolvedScene>, StageError> {
+    match &scene.scene.material {
+        Some(m) if m.model == MaterialModel::Card && m.card.is_none() => {}
+        _ => return Ok(None),
+    }
+    if !ctx.previous.iter().any(|r| r.stage == Stage::Homogenize) {
+        return Err(failed(
+            "material.model = \"card\" without material.card indents the card of this run's \
+             homogenize stage, which has not run"
+                .into(),
+        ));
+    }
+    let mut fitted = scene.clone();
+    if let Some(m) = fitted.scene.material.as_mut() {
+        m.card = Some(ctx.out_dir.join("material.json"));
+    }
+    Ok(Some(fitted))
+}
+
 /// Run the stage.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
-    let params = indent_params(scene)?;
+    let fitted = with_fitted_card(scene, ctx)?;
+    let params = indent_params(fitted.as_ref().unwrap_or(scene))?;
     let (result, failure): (IndentResult, Option<String>) = match run_indent(&params, &mut |_| {}) {
         Ok(r) => (r, None),
         Err(crate::continuum::FeError::Stopped(r)) => {
@@ -283,6 +320,9 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         ("solve_s".to_string(), result.stats.assembly.solve_s),
     ]);
     let summary = result.summary();
+    if let Some(SurfaceLaw::ThermallyShifted(t)) = params.adhesion.as_ref().map(|a| a.law) {
+        values.insert("thermal_amplitude_nm".to_string(), t.shift());
+    }
     if let Some(a) = &params.adhesion {
         let scale = std::f64::consts::PI * a.law.gamma() * params.indenter.radius();
         let pull_off = result
@@ -329,4 +369,89 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             "continuum/plots/load_depth.svg".into(),
         ],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_str;
+    use std::path::Path;
+
+    /// The seed's u = 4.626 nm (§5.2) is quoted to four figures.
+    const SEED_U_QUOTED_TOL_NM: f64 = 5e-4;
+
+    /// The seed's tubes (l = 7 µm, r_o = 20 nm, r_i = 17.3 nm, Y = 0.4 TPa) under a sphere.
+    const SEED_TUBES: &str = r#"
+[scene]
+name = "thermal-from-tubes"
+[turf]
+density = "1e10 1/cm^2"
+box = ["300 nm", "300 nm"]
+[turf.tube]
+r_o = "20 nm"
+r_i = "17.3 nm"
+youngs = "0.4 TPa"
+[turf.growth]
+length = "7 um"
+[compression]
+to = 0.1
+[indenter]
+radius = "1 um"
+[material]
+model = "linear"
+youngs = "1 GPa"
+poisson = 0.3
+[adhesion]
+law = "lj104"
+gamma = "0.46 J/m^2"
+z0 = "0.34 nm"
+thermal_shift = true
+temperature = "300 K"
+[schedule]
+[[schedule.segment]]
+kind = "load"
+to = "5 nm"
+rate = "10 nm/s"
+"#;
+
+    #[test]
+    fn the_seed_tubes_shift_the_fe_law_by_4_626_nm() {
+        let loaded = load_str(SEED_TUBES, Path::new("t.toml"), &[]).unwrap();
+        let params = indent_params(&loaded.base).unwrap();
+        let Some(SurfaceLaw::ThermallyShifted(law)) = params.adhesion.map(|a| a.law) else {
+            panic!("thermal_shift = true must give the thermally shifted law");
+        };
+        assert!(
+            (law.shift() - 4.626).abs() < SEED_U_QUOTED_TOL_NM,
+            "{}",
+            law.shift()
+        );
+        // the plan's derived value (what `turf check` prints) is the same number
+        assert_eq!(loaded.base.derived.thermal_shift_nm, Some(law.shift()));
+        // u grows as √T
+        let hot = load_str(
+            SEED_TUBES,
+            Path::new("t.toml"),
+            &["adhesion.temperature=\"1200 K\"".to_string()],
+        )
+        .unwrap();
+        let u_hot = hot.base.derived.thermal_shift_nm.unwrap();
+        assert!((u_hot / law.shift() - 2.0).abs() < 1e-12, "{u_hot}");
+    }
+
+    #[test]
+    fn without_turf_the_shift_from_tubes_names_the_keys_it_needs() {
+        let mut scene = load_str(SEED_TUBES, Path::new("t.toml"), &[]).unwrap().base;
+        scene.scene.turf = None;
+        let e = indent_params(&scene).unwrap_err().to_string();
+        for key in [
+            "adhesion.thermal_shift",
+            "turf.growth.length",
+            "turf.tube.r_o",
+            "turf.tube.r_i",
+            "turf.tube.youngs",
+        ] {
+            assert!(e.contains(key), "{e}");
+        }
+    }
 }

@@ -427,15 +427,23 @@ fn analysis_json(a: &CurveAnalysis) -> serde_json::Value {
         }),
         Err(e) => serde_json::json!({ "error": e }),
     };
-    serde_json::json!({
+    let mut json = serde_json::json!({
         "tangent_law_fit": fit,
-        "sigma0_GPa": a.threshold_stress(),
         "sigma0_definition": "E0 * eps0 of the fitted tangent law (5.1): the stress where the initial line E0*eps meets the large-strain asymptote",
         "peak_stress_GPa": a.peak_stress,
         "loading_work_GPa": a.loading_work,
-        "unloading_work_GPa": a.unloading_work,
-        "hysteresis": a.hysteresis(),
-    })
+    });
+    // absent rather than null: a null reads as a failed number (crate::report::write_json)
+    for (name, v) in [
+        ("sigma0_GPa", a.threshold_stress()),
+        ("unloading_work_GPa", a.unloading_work),
+        ("hysteresis", a.hysteresis()),
+    ] {
+        if let Some(v) = v {
+            json[name] = v.into();
+        }
+    }
+    json
 }
 
 fn write_plots(

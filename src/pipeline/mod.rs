@@ -11,10 +11,19 @@
 //!
 //! `summary.json`: `turf_version`, `file`, `units` (the internal units), `scene` (the fully
 //! resolved scene in internal units), `derived`, `plan`, then either `stages` (one record per
-//! stage run: `stage`, `wall_time_s`, `evaluations`, `values`, `files`) or, for a `[sweep]`,
+//! stage run: `stage`, `wall_time_s`, `evaluations`, `values`, `files`, `cached`, and
+//! `cache_key` for a cached stage) or, for a `[sweep]`,
 //! `sweep` (`key` and one entry per value with its own `derived` and `stages`), and `error`
 //! when the run stopped early (`complete` says whether every stage ran).
+//!
+//! The `discrete` and `homogenize` stages are cached under `cache/` in the output folder by a
+//! hash of their inputs ([`cache`]): a re-run whose inputs to them did not change (only FE
+//! keys changed, or another point of a sweep) copies their files from the cache instead of
+//! recomputing, records `cached: true` (its `wall_time_s` is then the time of the copy; the
+//! values, including the stage's own wall times, are those of the run that computed it), and
+//! says so on the terminal.
 
+pub mod cache;
 mod continuum_stage;
 mod discrete_stage;
 mod halfspace_stage;
@@ -23,7 +32,7 @@ mod theory_stage;
 
 use crate::report::{csv::Table, write_json, ReportError};
 use crate::scene::{Loaded, ResolvedScene, Stage};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -78,7 +87,7 @@ pub enum StageError {
 }
 
 /// One finished stage, as recorded in `summary.json`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct StageRecord {
     /// the stage
     pub stage: Stage,
@@ -90,6 +99,11 @@ pub struct StageRecord {
     pub values: BTreeMap<String, f64>,
     /// files written, relative to the output folder
     pub files: Vec<String>,
+    /// reused from the stage cache rather than computed in this run
+    pub cached: bool,
+    /// the stage's cache key (cached stages only), 16 hex digits
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cache_key: Option<String>,
 }
 
 /// Run the engine of `stage`. Each engine plugs in as one arm `Stage::X => x_stage::run(..)`.
@@ -288,7 +302,7 @@ pub fn run_with(
                     None => stage.to_string(),
                 });
             }
-            let result = run_one(stage, scene, &dir, &done, bar.as_ref(), runner);
+            let result = run_cached(stage, scene, &out_dir, &dir, &done, bar.as_ref(), runner);
             if let Some(b) = &bar {
                 b.inc(1);
             }
@@ -330,6 +344,41 @@ fn store(summary: &mut Summary, done: &[StageRecord], swept: bool) {
     }
 }
 
+/// Reuse the stage's cached result when its inputs are unchanged (saying so on stderr, above
+/// the progress bar when there is one), else run it and keep the result in the cache. `root` is the run's output folder (the cache's home), `dir`
+/// the folder this stage writes into (a sweep point's sub-folder).
+fn run_cached(
+    stage: Stage,
+    scene: &ResolvedScene,
+    root: &Path,
+    dir: &Path,
+    previous: &[StageRecord],
+    progress: Option<&indicatif::ProgressBar>,
+    runner: &mut Runner,
+) -> Result<StageRecord, StageError> {
+    let report = |source| StageError::Report { stage, source };
+    let Some(key) = cache::key(stage, scene, previous) else {
+        return run_one(stage, scene, dir, previous, progress, runner);
+    };
+    let start = Instant::now();
+    if let Some(mut record) = cache::reuse(root, dir, stage, &key).map_err(report)? {
+        record.wall_time_s = start.elapsed().as_secs_f64();
+        let line = format!(
+            "{stage}: inputs unchanged, reused {} (not recomputed)",
+            cache::entry_name(stage, &key)
+        );
+        match progress {
+            Some(bar) => bar.println(line),
+            None => eprintln!("{line}"),
+        }
+        return Ok(record);
+    }
+    let mut record = run_one(stage, scene, dir, previous, progress, runner)?;
+    record.cache_key = Some(key.hex.clone());
+    cache::store(root, dir, &key, &record).map_err(report)?;
+    Ok(record)
+}
+
 /// Run one stage, time it and write its tables.
 fn run_one(
     stage: Stage,
@@ -367,6 +416,8 @@ fn run_one(
         evaluations: out.evaluations,
         values: out.values,
         files,
+        cached: false,
+        cache_key: None,
     })
 }
 

@@ -156,6 +156,27 @@ impl Adhesion {
         }
     }
 
+    /// The shift u of the attractive branch, nm: 0 when off, the given length, or (`true`) the
+    /// RMS tip amplitude of the `[turf]` tubes at `adhesion.temperature` (seed eq. 5.9).
+    pub fn shift_nm(&self, turf: Option<&super::turf::Turf>) -> Result<f64, String> {
+        match self.thermal_shift {
+            ThermalShift::Off => Ok(0.0),
+            ThermalShift::Amplitude(u) => Ok(u.0),
+            ThermalShift::FromTubes => turf
+                .ok_or_else(|| {
+                    "needs [turf] (turf.growth.length, turf.tube.r_o, turf.tube.r_i, \
+                     turf.tube.youngs) to compute the amplitude u (seed eq. 5.9); give a \
+                     length instead, e.g. \"5 nm\""
+                        .to_string()
+                })?
+                .thermal_cantilever()
+                .rms_tip_amplitude(self.temperature.0)
+                .map_err(|e| {
+                    format!("the thermal amplitude of the [turf] tubes (seed eq. 5.9): {e}")
+                }),
+        }
+    }
+
     /// The law as `turf::laws` builds it.
     pub fn law(&self) -> crate::laws::LennardJones {
         crate::laws::LennardJones::new(self.law, self.gamma.0, self.z0.0)

@@ -26,7 +26,7 @@ use std::fmt;
 use std::path::PathBuf;
 
 /// A stage of the pipeline, in the order stages run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Stage {
     /// closed forms: Hertz, JKR, DMT, Maugis–Dugdale (microseconds)
@@ -293,21 +293,8 @@ fn derive_contact(scene: &Scene, d: &mut Derived) {
         }
     }
     if let Some(a) = &scene.adhesion {
-        d.thermal_shift_nm = match a.thermal_shift {
-            ThermalShift::Off => Some(0.0),
-            ThermalShift::Amplitude(u) => Some(u.0),
-            ThermalShift::FromTubes => match &scene.turf {
-                Some(t) => crate::theory::thermal::Cantilever {
-                    length: t.growth.length.0,
-                    r_outer: t.tube.r_o.0,
-                    r_inner: t.tube.r_i.0,
-                    youngs: t.tube.youngs.0,
-                }
-                .rms_tip_amplitude(a.temperature.0)
-                .ok(),
-                None => None,
-            },
-        };
+        // an error (no [turf]) is reported by check_users; the derived value is then absent
+        d.thermal_shift_nm = a.shift_nm(scene.turf.as_ref()).ok();
     }
 }
 
@@ -452,7 +439,7 @@ fn plan_continuum(
         (None, None) => {
             c.bad(
                 key,
-                "is missing: the expected contact radius is unknown before the run (load control on a card material), so give mesh.width, mesh.depth and mesh.smallest",
+                "is missing: the expected contact radius is unknown before the run (the schedule never indents), so give mesh.width, mesh.depth and mesh.smallest",
             );
             f64::NAN
         }
@@ -463,7 +450,11 @@ fn plan_continuum(
             by_contact.min(p / ELEMENTS_PER_PROCESS_ZONE)
         })
     });
-    d.mesh = Some(MeshSizes {
+    // a card's moduli are known only when the run reads it: the sizes the scene does not
+    // give are then derived by the FE engine from the card (the same rules, with E*)
+    let card = mat.model == MaterialModel::Card;
+    let all_given = mesh.width.is_some() && mesh.depth.is_some() && mesh.smallest.is_some();
+    d.mesh = (!card || all_given).then(|| MeshSizes {
         width_nm: pick(
             mesh.width,
             a.map(|a| WIDTH_PER_CONTACT_RADIUS * a),
@@ -483,10 +474,15 @@ fn plan_continuum(
         Kinematics::Finite => "finite deformation",
         Kinematics::Small => "small strain",
     };
+    let sizing = if d.mesh.is_none() {
+        "; mesh sizes not given are derived at run time from the card's initial moduli"
+    } else {
+        ""
+    };
     stages.push(PlannedStage {
         stage: Stage::Continuum,
         why: format!(
-            "[schedule] + [indenter] + [material]: axisymmetric FE indentation, {kin}, {} solver, {} control",
+            "[schedule] + [indenter] + [material]: axisymmetric FE indentation, {kin}, {} solver, {} control{sizing}",
             match solver.method {
                 super::solver::Method::Newton => "Newton",
                 super::solver::Method::Riks => "Riks arc-length",
@@ -565,7 +561,7 @@ fn check_users(
         if a.thermal_shift == ThermalShift::FromTubes && scene.turf.is_none() {
             c.bad(
                 "adhesion.thermal_shift",
-                "true needs [turf] (tube length, radii, modulus) to compute the amplitude u (seed eq. 5.9); give a length instead, e.g. \"5 nm\"",
+                "true needs [turf] (turf.growth.length, turf.tube.r_o, turf.tube.r_i, turf.tube.youngs) to compute the amplitude u (seed eq. 5.9); give a length instead, e.g. \"5 nm\"",
             );
         }
     }
@@ -732,13 +728,16 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
             "largest LJ tension",
         );
     }
-    if let Some(u) = d.thermal_shift_nm {
-        put(
-            "thermal shift u",
-            u,
-            "nm",
-            "seed eq. 5.9 when from the tubes",
-        );
+    if let (Some(u), Some(a)) = (d.thermal_shift_nm, &scene.adhesion) {
+        let note = match a.thermal_shift {
+            ThermalShift::FromTubes => format!(
+                "seed eq. 5.9: RMS tip amplitude of the [turf] tubes at {} K",
+                sig(a.temperature.0)
+            ),
+            ThermalShift::Amplitude(_) => "given (adhesion.thermal_shift)".into(),
+            ThermalShift::Off => "none (adhesion.thermal_shift = false)".into(),
+        };
+        put("thermal shift u", u, "nm", &note);
     }
     if let Some(x) = d.tabor_mu {
         put("Tabor μ", x, "", "(Rγ²/(E*² z0³))^(1/3)");
@@ -757,7 +756,12 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
         }
     }
     if let Some(a) = d.contact_radius_nm {
-        put("expected contact radius", a, "nm", "sets the mesh defaults");
+        let note = if d.mesh.is_some() {
+            "sets the mesh defaults"
+        } else {
+            "by geometry; the mesh is sized at run time from the card"
+        };
+        put("expected contact radius", a, "nm", note);
     }
     if let Some(m) = &d.mesh {
         put("mesh.width", m.width_nm, "nm", "");

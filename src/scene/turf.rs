@@ -130,6 +130,17 @@ fn default_periodic() -> bool {
 }
 
 impl Turf {
+    /// The tubes as cantilevers of the thermal-amplitude formula (seed eq. 5.9): free length
+    /// `growth.length`, radii `tube.r_o`, `tube.r_i`, modulus `tube.youngs`.
+    pub fn thermal_cantilever(&self) -> crate::theory::thermal::Cantilever {
+        crate::theory::thermal::Cantilever {
+            length: self.growth.length.0,
+            r_outer: self.tube.r_o.0,
+            r_inner: self.tube.r_i.0,
+            youngs: self.tube.youngs.0,
+        }
+    }
+
     /// Number of tubes in the box: density × area, rounded.
     pub fn tube_count(&self) -> f64 {
         (self.density.0 * self.box_size[0].0 * self.box_size[1].0).round()
