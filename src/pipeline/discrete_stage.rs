@@ -325,7 +325,10 @@ fn turf_params(t: &crate::scene::turf::Turf, seed: u64) -> TurfParams {
         length_mean: g.length.0,
         length_cv: g.length_spread.0,
         tilt_spread: g.tilt.0,
+        mean_tilt: g.mean_tilt.0,
+        mean_azimuth: g.mean_azimuth.0,
         wave_amplitude: g.waviness.0,
+        wave_coherence: g.wave_coherence.0,
         // a straight tube (waviness 0) ignores the wavelength
         wave_length: g.wavelength.map_or(g.length.0, |w| w.0),
         segment_length: t
