@@ -37,6 +37,8 @@ pub struct StageContext<'a> {
     /// the run's progress bar (on a terminal, not with --json): long stages report their
     /// progress in its message
     pub progress: Option<&'a indicatif::ProgressBar>,
+    /// continue from a checkpoint in `out_dir` if there is one ([`RunOptions::resume`])
+    pub resume: bool,
 }
 
 /// What a stage returns: its answer and its cost.
@@ -113,6 +115,9 @@ pub struct RunOptions {
     pub out: Option<PathBuf>,
     /// show a progress bar on the terminal
     pub progress: bool,
+    /// continue a long stage from the checkpoint an earlier run of the scene left in the
+    /// output folder (the discrete drive: `discrete_checkpoint.json`)
+    pub resume: bool,
 }
 
 /// The internal units, echoed in `summary.json`.
@@ -287,7 +292,7 @@ pub fn run_with(
                     None => stage.to_string(),
                 });
             }
-            let result = run_one(stage, scene, &dir, &done, bar.as_ref(), runner);
+            let result = run_one(stage, scene, &dir, &done, bar.as_ref(), opts.resume, runner);
             if let Some(b) = &bar {
                 b.inc(1);
             }
@@ -335,12 +340,14 @@ fn run_one(
     dir: &Path,
     previous: &[StageRecord],
     progress: Option<&indicatif::ProgressBar>,
+    resume: bool,
     runner: &mut Runner,
 ) -> Result<StageRecord, StageError> {
     let ctx = StageContext {
         out_dir: dir,
         previous,
         progress,
+        resume,
     };
     let start = Instant::now();
     let out = runner(stage, scene, &ctx)?;
@@ -417,6 +424,7 @@ cells_per_zone = 12
         let opts = RunOptions {
             out: Some(dir.clone()),
             progress: false,
+            resume: false,
         };
         let report = run(&loaded, &opts).unwrap();
         let e = report
@@ -443,6 +451,7 @@ cells_per_zone = 12
         let opts = RunOptions {
             out: Some(dir.clone()),
             progress: false,
+            resume: false,
         };
         let mut runner = |stage: Stage, _: &ResolvedScene, ctx: &StageContext| match stage {
             Stage::Theory => {
@@ -486,6 +495,7 @@ cells_per_zone = 12
         let opts = RunOptions {
             out: Some(dir.clone()),
             progress: false,
+            resume: false,
         };
         let mut runner = |_: Stage, _: &ResolvedScene, _: &StageContext| {
             Ok(StageOutput {
