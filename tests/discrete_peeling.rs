@@ -14,8 +14,8 @@
 //! U_b = ∫ K θ'²/2 ds = √(Kγ_L/2) ∫₀^{π/2} √(1 − sin θ) dθ = (2√2 − 2) √(Kγ_L/2).
 //!
 //! The tubes have the seed's section (r_o = 20 nm, r_i = 17.3 nm) with a wall modulus of
-//! 4 GPa (a hundredth of the seed's) so that the bending length √(K/γ_L) = 470 nm fits a few
-//! times into a tube of a few hundred segments; the balance is scale-free in K.
+//! 0.4 GPa (a thousandth of the seed's) so that the bending length ℓ_b = √(K/γ_L) = 149 nm fits
+//! a few times into a tube of a hundred segments; the balance is scale-free in K.
 
 use turf::discrete::broadphase::PeriodicBox;
 use turf::discrete::constraints::FixedDofs;
@@ -29,24 +29,24 @@ use turf::discrete::vdw_term::{TubeLayout, VdwTerm};
 const R_OUTER: f64 = 20.0;
 const R_INNER: f64 = 17.3;
 /// Wall modulus, GPa (see the module doc).
-const YOUNGS: f64 = 4.0;
-/// Segment length of both tubes, nm: a twentieth of the bending length.
-const SEGMENT: f64 = 25.0;
+const YOUNGS: f64 = 0.4;
+/// Segment length of both tubes, nm: a fifteenth of the bending length.
+const SEGMENT: f64 = 10.0;
 /// Force residual of each equilibrium, nN: 1e-6 of γ_L.
 const TOLERANCE: f64 = 1e-6;
 /// The lifting force and the rate dE*/dH against γ_L. The line energy of the parallel pair is
 /// −γ_L to 1e-5 (tests/discrete_vdw_two_tubes.rs), an arm of 3 bending lengths is vertical at
-/// its end to ~(4 tan(π/8) e⁻³)² / 2 ≈ 1e-3 in F; the segments (ℓ/ℓ_b = 1/19) and the finite
-/// interaction width (w ≈ 5.5 nm against the 470 nm bending length) are further corrections
+/// its end to ~(4 tan(π/8) e⁻³)² / 2 ≈ 1e-3 in F; the segments (ℓ/ℓ_b = 1/15) and the finite
+/// interaction width (w ≈ 5.5 nm against the 149 nm bending length) are further corrections
 /// of order 1e-3: 5e-3 covers them, and is five times below the 2.5 % difference that the
 /// smallest alternative balance (Kendall's F(1 − cos θ) at 80°, i.e. a 10° lean of the arm)
 /// would make.
 const FORCE_TOL: f64 = 5e-3;
 /// The bending energy of the peeled arc against the sharp-front elastica value: the contact
-/// front is a cohesive zone of length ~√(2 g_cut/κ_c) ≈ 50 nm (where the gap opens from 0.34
-/// to the 3.4 nm cutoff) against the 470 nm bending length, and in it the curvature is below
+/// front is a cohesive zone of length ~√(2 g_cut/κ_c) ≈ 25 nm (where the gap opens from 0.34
+/// to the 3.4 nm cutoff) against the 149 nm bending length, and in it the curvature is below
 /// κ_c; 10 % bounds that zone's share of the energy (the bending energy density is at most γ_L
-/// there: ~50 aJ of 275 aJ, and the zone only partly lacks it).
+/// there: ~25 aJ of 87 aJ, and the zone only partly lacks it).
 const BENDING_TOL: f64 = 0.1;
 
 struct Peel {
@@ -71,9 +71,9 @@ fn straight(x0: f64, z: f64, length: f64) -> Vec<[f64; 3]> {
 fn peel() -> Peel {
     let params = VdwParams::default();
     let d0 = 2.0 * R_OUTER + params.gap_eq;
-    // A from −500 nm to 4000 nm, B adhered on top of it from 0 to 3500 nm
-    let a = straight(-500.0, 0.0, 4500.0);
-    let b = straight(0.0, d0, 3500.0);
+    // A from −200 nm to 1300 nm, B adhered on top of it from 0 to 1000 nm
+    let a = straight(-200.0, 0.0, 1500.0);
+    let b = straight(0.0, d0, 1000.0);
     let stiffness = RodStiffness::hollow_tube(YOUNGS, R_OUTER, R_INNER);
     let rods = RodSet::new(vec![
         Rod::straight(0, &a, stiffness).unwrap(),
