@@ -46,7 +46,7 @@ const TOLERANCE: f64 = 1e-6;
 /// H = 2 ℓ_b), the stretching energy grows with the tension as the lift builds up (~0.4 aJ over
 /// the range, 2e-3), and the discrete front is trapped between nodes (the lifting force
 /// oscillates by ±8 % with the front's position relative to the 10 nm nodes; the energy rate
-/// between two lifts averages it out but keeps ~1e-3 of it). Budget 1.5 %; measured 0.8 % (set
+/// between two lifts averages it out but keeps ~1e-3 of it). Budget 1.5 %; measured 0.47 % (set
 /// after the first run of this test, with this budget). An arm leaning 10° from vertical
 /// would need Kendall's F = γ_L/(1 − cos 80°) = 1.21 γ_L.
 const RATE_TOL: f64 = 0.015;
