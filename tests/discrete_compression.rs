@@ -73,7 +73,7 @@ fn run_curve() -> Vec<StepRecord> {
         steps: 5,
         unload: true,
     };
-    compress(&mut sys, &mut x, &params, &newton(), &mut |_, _| {}).unwrap()
+    compress(&mut sys, &mut x, &params, &newton(), None, &mut |_, _| {}).unwrap()
 }
 
 #[test]
@@ -86,7 +86,7 @@ fn the_platen_force_is_minus_the_derivative_of_the_equilibrium_energy() {
         steps: 2,
         unload: false,
     };
-    let recs = compress(&mut sys, &mut x, &params, &newton(), &mut |_, _| {}).unwrap();
+    let recs = compress(&mut sys, &mut x, &params, &newton(), None, &mut |_, _| {}).unwrap();
     let force = recs.last().unwrap().state.platen_force;
     assert!(force > 0.0, "the platen must carry load at 10 % strain");
     let total = |s: &turf::discrete::model::State| {
@@ -164,12 +164,13 @@ plots = false
 "#;
 
 #[test]
-fn the_pipeline_writes_the_curve_and_homogenize_fits_it() {
+fn the_pipeline_writes_the_curve_homogenize_fits_it_and_a_resumed_run_repeats_it() {
     let loaded = turf::scene::load_str(SCENE, Path::new("t.toml"), &[]).unwrap();
     let dir = std::env::temp_dir().join(format!("turf-discrete-{}", std::process::id()));
     let opts = turf::pipeline::RunOptions {
         out: Some(dir.clone()),
         progress: false,
+        resume: false,
     };
     let report = turf::pipeline::run(&loaded, &opts).unwrap();
     assert!(report.failure.is_none(), "{:?}", report.failure);
@@ -206,5 +207,38 @@ fn the_pipeline_writes_the_curve_and_homogenize_fits_it() {
     assert!(gap > 0.0 && gap < 2.5, "smallest relaxed gap {gap} nm");
     assert_eq!(json["stages"][1]["stage"], "homogenize");
     assert!(json["complete"].as_bool().unwrap());
+
+    // interrupted after step 3: keep steps 0–3 of the checkpoint, remove the results, resume
+    let checkpoint = dir.join("discrete_checkpoint.json");
+    let mut saved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
+    assert_eq!(saved["steps"].as_array().unwrap().len(), 11);
+    saved["steps"].as_array_mut().unwrap().truncate(4);
+    std::fs::write(&checkpoint, saved.to_string()).unwrap();
+    std::fs::remove_file(dir.join("stress_strain.csv")).unwrap();
+    let resumed = turf::pipeline::run(
+        &loaded,
+        &turf::pipeline::RunOptions {
+            resume: true,
+            ..opts
+        },
+    )
+    .unwrap();
+    assert!(resumed.failure.is_none(), "{:?}", resumed.failure);
+    let again = std::fs::read_to_string(dir.join("stress_strain.csv")).unwrap();
+    // every column but the wall time of the solves (the last) is the same, to the last digit
+    let without_time = |text: &str| -> Vec<String> {
+        text.lines()
+            .map(|l| l.rsplit_once(',').unwrap().0.to_string())
+            .collect()
+    };
+    assert_eq!(without_time(&again), without_time(&csv));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(json["stages"][0]["values"]["resumed_after_step"], 3.0);
+    // the steps solved again are the uninterrupted run's: the checkpoint is whole once more
+    let saved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
+    assert_eq!(saved["steps"].as_array().unwrap().len(), 11);
     std::fs::remove_dir_all(dir).ok();
 }

@@ -17,6 +17,7 @@ fn the_cantilever_scene_matches_bisshopp_drucker() {
     let opts = turf::pipeline::RunOptions {
         out: Some(dir.clone()),
         progress: false,
+        resume: false,
     };
     let report = turf::pipeline::run(&loaded, &opts).unwrap();
     assert!(report.failure.is_none(), "{:?}", report.failure);

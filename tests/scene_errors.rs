@@ -413,3 +413,22 @@ fn every_problem_is_reported_at_once() {
     assert_eq!(keys, ["indenter.radius", "material.poisson"]);
     assert_has(&e.to_string(), &["2 problems"]);
 }
+
+#[test]
+fn collective_growth_keys_out_of_range_are_refused() {
+    let text = TURF.replace(
+        "length = \"7 um\"",
+        "length = \"7 um\"\nmean_tilt = 1.5\nwave_coherence = 1.2",
+    );
+    let msg = error(&text, &[]);
+    assert_has(
+        &msg,
+        &[
+            "turf.growth.mean_tilt",
+            "1.5",
+            "turf.growth.wave_coherence",
+            "1.2",
+            "[0, 1]",
+        ],
+    );
+}

@@ -59,6 +59,7 @@ fn seed_card_runs_homogenize_alone_and_reproduces_table_5_1() {
     let opts = turf::pipeline::RunOptions {
         out: Some(dir.clone()),
         progress: false,
+        resume: false,
     };
     let report = turf::pipeline::run(&l, &opts).unwrap();
     assert!(report.failure.is_none());

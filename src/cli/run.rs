@@ -20,6 +20,10 @@ pub struct RunArgs {
     /// Override a scene key, e.g. --set adhesion.gamma="0.2 J/m^2" (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Continue an interrupted run from the checkpoint in the output folder (the discrete
+    /// compression saves one after every strain step); same curve as an uninterrupted run.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 /// Arguments of `turf check`.
@@ -41,6 +45,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let opts = RunOptions {
         out: args.out,
         progress: !args.json && std::io::stderr().is_terminal(),
+        resume: args.resume,
     };
     let report = pipeline::run(&loaded, &opts)?;
     if args.json {

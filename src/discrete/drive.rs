@@ -8,6 +8,11 @@
 //! under it (a feasible start, so the penalty starts at zero). Recorded per step: nominal
 //! strain ε = (H₀ − H)/H₀, the platen force F = −∂E/∂H and the nominal stress σ = F/A (A the
 //! box area), the energy split, the contacts, the solver's cost.
+//!
+//! A drive can start part-way ([`Resume`], from a [`super::checkpoint::Checkpoint`]): the steps
+//! already reached are taken from their saved configurations (their records recomputed, which
+//! is exact: a record is a function of the configuration and the platen height), and the
+//! solves continue from the last one, so the curve is the one of an uninterrupted drive.
 
 use super::model::{State, StaticSolver, TurfSystem};
 use super::solve::{Cost, SolveError};
@@ -42,6 +47,25 @@ pub struct StepRecord {
     /// what the step's solve cost (zero at step 0)
     #[serde(skip)]
     pub cost: Cost,
+}
+
+/// A step reached: its configuration and what its solve cost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SavedStep {
+    /// what the solve cost (zero at step 0)
+    pub cost: Cost,
+    /// node coordinates at equilibrium, nm
+    pub x: Vec<f64>,
+}
+
+/// A drive already done up to some step: the platen's start height and the steps reached,
+/// step 0 first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resume {
+    /// H₀, nm
+    pub start_height: f64,
+    /// steps 0 … k
+    pub steps: Vec<SavedStep>,
 }
 
 /// Why the drive stopped.
@@ -79,13 +103,16 @@ pub fn strain_path(p: &CompressionParams) -> Vec<(f64, bool)> {
 }
 
 /// Compress the relaxed turf at `x` (nm; the final configuration on return) along `params`,
-/// solving each step with `solver`. `observe` sees every step's record and configuration as it
-/// is reached (progress, VTK output). Returns the records, step 0 first.
+/// solving each step with `solver`; with `resume`, the steps it holds are taken as reached and
+/// the drive continues after the last of them. `observe` sees every step's record and
+/// configuration as it is reached (progress, VTK output, checkpoints). Returns the records,
+/// step 0 first.
 pub fn compress(
     sys: &mut TurfSystem,
     x: &mut [f64],
     params: &CompressionParams,
     solver: &StaticSolver,
+    resume: Option<&Resume>,
     observe: &mut dyn FnMut(&StepRecord, &[f64]),
 ) -> Result<Vec<StepRecord>, DriveError> {
     if !(params.strain_max > 0.0 && params.strain_max < 1.0) || params.steps == 0 {
@@ -94,12 +121,26 @@ pub fn compress(
             params.strain_max, params.steps
         )));
     }
-    let h0 = sys.height(x);
+    let path = strain_path(params);
+    let (h0, saved) = match resume {
+        Some(r) => (r.start_height, r.steps.as_slice()),
+        None => (sys.height(x), &[][..]),
+    };
+    if saved.len() > path.len() || saved.iter().any(|s| s.x.len() != x.len()) {
+        return Err(DriveError::Invalid(format!(
+            "the resumed drive holds {} steps of a path of {} (or configurations of another size)",
+            saved.len(),
+            path.len()
+        )));
+    }
     let mut records = Vec::new();
-    for (step, (strain, loading)) in strain_path(params).into_iter().enumerate() {
+    for (step, (strain, loading)) in path.into_iter().enumerate() {
         let h = h0 * (1.0 - strain);
         sys.set_platen(h);
-        let cost = if step == 0 {
+        let cost = if let Some(s) = saved.get(step) {
+            x.copy_from_slice(&s.x);
+            s.cost
+        } else if step == 0 {
             Cost::default()
         } else {
             push_below(sys, x, h);

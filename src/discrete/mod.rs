@@ -3,10 +3,12 @@
 //!
 //! Entry points: [`turf::generate_turf`] (a turf from `[turf]`), [`model::TurfSystem`] (its
 //! energy and clamps), [`model::relax`] (contacts form, E = U − Γ), [`drive::compress`] (the
-//! platen drive), [`analysis::CurveAnalysis`] (σ₀, tangent law, hysteresis).
+//! platen drive; [`checkpoint`] saves it after every step for `--resume`),
+//! [`analysis::CurveAnalysis`] (σ₀, tangent law, hysteresis).
 
 pub mod analysis;
 pub mod broadphase;
+pub mod checkpoint;
 pub mod constraints;
 pub mod drive;
 pub mod energy;

@@ -2,13 +2,27 @@
 //! tubes grown from the substrate z = 0 in a box periodic in x and y.
 //!
 //! Tube i starts at a base point bᵢ on the substrate (uniform in the box, no two bases closer
-//! than the sum of their outer radii plus the equilibrium gap, periodic distance), grows along
-//! a direction tilted from z by θ (the two horizontal tilt components are normal with standard
-//! deviation `tilt_spread`), and waves in a horizontal direction eᵢ:
+//! than the sum of their outer radii plus the equilibrium gap, periodic distance) and grows
+//! straight along a direction dᵢ, waving horizontally:
 //!
-//! xᵢ(s) = bᵢ + s dᵢ + A (sin(2πs/λ + φᵢ) − sin φᵢ) eᵢ,  0 ≤ s ≤ Lᵢ,
+//! xᵢ(s) = bᵢ + s dᵢ + A [c u(s; e₀, φ₀) + √(1 − c²) u(s; eᵢ, φᵢ)],
+//! u(s; e, φ) = (sin(2πs/λ + φ) − sin φ) e,  0 ≤ s ≤ Lᵢ,
 //!
-//! sampled at ⌈Lᵢ/ℓ⌉ + 1 equally spaced s. Growth is overlap-free along the whole length:
+//! sampled at ⌈Lᵢ/ℓ⌉ + 1 equally spaced s. Real turfs grow collectively (seed §1.1, Fig 1.1:
+//! the tubes of a forest lean and wave together, crowding keeps neighbours nearly parallel), so
+//! the direction and the waviness have a turf-wide part and a per-tube part:
+//!
+//! - dᵢ is a per-tube tilt about the turf's mean growth direction d₀ (tilted from z by
+//!   `mean_tilt` towards the azimuth `mean_azimuth`): the two components of the per-tube tilt
+//!   are normal with standard deviation `tilt_spread` in the frame that the rotation taking z to
+//!   d₀ (about z × d₀) carries along; its magnitude is clipped so that dᵢ stays within
+//!   80° of z. Two tubes then diverge by ~√2 `tilt_spread` whatever the mean tilt, which is
+//!   what lets long tubes grow clear of each other in a small periodic box.
+//! - the wave has a turf-wide part (direction e₀, phase φ₀, drawn once when the coherence
+//!   c = `wave_coherence` > 0) and a per-tube part (eᵢ, φᵢ); the per-tube amplitude is
+//!   A√(1 − c²), so neighbours wave apart by at most 2A√(1 − c²).
+//!
+//! With `mean_tilt` = 0 and c = 0 this is the independent-tube turf (same random draws). Growth is overlap-free along the whole length:
 //! every segment of a candidate tube is checked against every segment of the tubes already
 //! grown, and of their periodic images (and its own) in x and y, for every image shift the
 //! tubes' bounding boxes can reach; the axes must stay r_a + r_b + 0.34 nm apart (the
@@ -57,10 +71,16 @@ pub struct TurfParams {
     pub length_mean: f64,
     /// coefficient of variation of the length (log-normal)
     pub length_cv: f64,
-    /// standard deviation of each horizontal component of the growth tilt, rad
+    /// standard deviation of each component of a tube's tilt about the mean direction, rad
     pub tilt_spread: f64,
+    /// tilt of the turf-wide mean growth direction from z, rad, in [0, 80°)
+    pub mean_tilt: f64,
+    /// azimuth of the mean growth direction from x, rad
+    pub mean_azimuth: f64,
     /// waviness amplitude A, nm
     pub wave_amplitude: f64,
+    /// fraction c ∈ [0, 1] of the waviness shared by all tubes (the per-tube part is √(1 − c²))
+    pub wave_coherence: f64,
     /// waviness wavelength λ, nm
     pub wave_length: f64,
     /// target segment length ℓ, nm
@@ -81,7 +101,10 @@ impl Default for TurfParams {
             length_mean: 2000.0,
             length_cv: 0.1,
             tilt_spread: 0.1,
+            mean_tilt: 0.0,
+            mean_azimuth: 0.0,
             wave_amplitude: 30.0,
+            wave_coherence: 0.0,
             wave_length: 800.0,
             segment_length: 50.0,
             seed: 1,
@@ -175,6 +198,19 @@ impl TurfParams {
         check("length_cv", p.length_cv, p.length_cv >= 0.0, ">= 0")?;
         check("tilt_spread", p.tilt_spread, p.tilt_spread >= 0.0, ">= 0")?;
         check(
+            "mean_tilt",
+            p.mean_tilt,
+            (0.0..MAX_TILT).contains(&p.mean_tilt),
+            "0 <= mean tilt < 80 degrees",
+        )?;
+        check("mean_azimuth", p.mean_azimuth, true, "finite")?;
+        check(
+            "wave_coherence",
+            p.wave_coherence,
+            (0.0..=1.0).contains(&p.wave_coherence),
+            "0 <= c <= 1",
+        )?;
+        check(
             "wave_amplitude",
             p.wave_amplitude,
             p.wave_amplitude >= 0.0,
@@ -252,6 +288,53 @@ fn normal(rng: &mut Pcg64) -> f64 {
     let u1: f64 = 1.0 - rng.random::<f64>(); // (0, 1]
     let u2: f64 = rng.random::<f64>();
     (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
+}
+
+/// The rotation taking z to the mean growth direction d₀ (tilted by θ₀ towards azimuth φ₀),
+/// about the horizontal axis k = z × d₀ / |z × d₀| = (−sin φ₀, cos φ₀, 0) (Rodrigues). θ₀ = 0
+/// gives the identity exactly.
+#[derive(Clone, Copy)]
+struct Rotation {
+    axis: [f64; 3],
+    cos: f64,
+    sin: f64,
+}
+
+impl Rotation {
+    fn from_z_to(tilt: f64, azimuth: f64) -> Self {
+        Rotation {
+            axis: [-azimuth.sin(), azimuth.cos(), 0.0],
+            cos: tilt.cos(),
+            sin: tilt.sin(),
+        }
+    }
+
+    /// R v = v cos θ + (k × v) sin θ + k (k·v)(1 − cos θ).
+    fn rotate(&self, v: [f64; 3]) -> [f64; 3] {
+        let k = self.axis;
+        let kxv = [
+            k[1] * v[2] - k[2] * v[1],
+            k[2] * v[0] - k[0] * v[2],
+            k[0] * v[1] - k[1] * v[0],
+        ];
+        let kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+        std::array::from_fn(|d| v[d] * self.cos + kxv[d] * self.sin + k[d] * kv * (1.0 - self.cos))
+    }
+}
+
+/// A horizontal wave: direction angle (from x) and phase, rad.
+#[derive(Clone, Copy)]
+struct Wave {
+    direction: f64,
+    phase: f64,
+}
+
+impl Wave {
+    /// Horizontal offset a (sin(2πs/λ + φ) − sin φ) e at arc parameter s, nm.
+    fn offset(&self, s: f64, wavelength: f64, amplitude: f64) -> [f64; 2] {
+        let w = amplitude * ((2.0 * PI * s / wavelength + self.phase).sin() - self.phase.sin());
+        [w * self.direction.cos(), w * self.direction.sin()]
+    }
 }
 
 /// A grown tube's nodes with its outer radius and axis-aligned bounding box (of the axis).
@@ -359,6 +442,15 @@ pub fn generate_turf(p: &TurfParams) -> Result<Turf, TurfError> {
         let wrap = |d: f64, l: f64| d - l * (d / l).round();
         wrap(a[0] - b[0], p.box_x).powi(2) + wrap(a[1] - b[1], p.box_y).powi(2)
     };
+    let mean = Rotation::from_z_to(p.mean_tilt, p.mean_azimuth);
+    // the turf-wide wave is drawn only when it is used, so that c = 0 keeps the random stream
+    // (and the turf) of independent tubes
+    let coherent = p.wave_amplitude * p.wave_coherence;
+    let independent = p.wave_amplitude * (1.0 - p.wave_coherence.powi(2)).sqrt();
+    let common = (p.wave_coherence > 0.0).then(|| Wave {
+        direction: rng.random::<f64>() * 2.0 * PI,
+        phase: rng.random::<f64>() * 2.0 * PI,
+    });
     let mut bases: Vec<([f64; 2], f64)> = Vec::with_capacity(wanted);
     let mut grown: Vec<Grown> = Vec::with_capacity(wanted);
     for _ in 0..wanted {
@@ -392,24 +484,26 @@ pub fn generate_turf(p: &TurfParams) -> Result<Turf, TurfError> {
                 p.tilt_spread * normal(&mut rng),
                 p.tilt_spread * normal(&mut rng),
             );
-            let tilt = tx.hypot(ty).min(MAX_TILT);
+            let tilt = tx.hypot(ty).min(MAX_TILT - p.mean_tilt);
             let azimuth = ty.atan2(tx);
-            let dir = [
+            let dir = mean.rotate([
                 tilt.sin() * azimuth.cos(),
                 tilt.sin() * azimuth.sin(),
                 tilt.cos(),
-            ];
-            let wave_dir = rng.random::<f64>() * 2.0 * PI;
-            let phase = rng.random::<f64>() * 2.0 * PI;
+            ]);
+            let own = Wave {
+                direction: rng.random::<f64>() * 2.0 * PI,
+                phase: rng.random::<f64>() * 2.0 * PI,
+            };
             let n = (length / p.segment_length).ceil().max(2.0) as usize;
             let nodes = (0..=n)
                 .map(|k| {
                     let s = length * k as f64 / n as f64;
-                    let w = p.wave_amplitude
-                        * ((2.0 * PI * s / p.wave_length + phase).sin() - phase.sin());
+                    let w = common.map_or([0.0; 2], |c| c.offset(s, p.wave_length, coherent));
+                    let v = own.offset(s, p.wave_length, independent);
                     [
-                        base[0] + s * dir[0] + w * wave_dir.cos(),
-                        base[1] + s * dir[1] + w * wave_dir.sin(),
+                        base[0] + s * dir[0] + w[0] + v[0],
+                        base[1] + s * dir[1] + w[1] + v[1],
                         s * dir[2],
                     ]
                 })
@@ -664,12 +758,155 @@ mod tests {
     }
 
     #[test]
-    fn the_scene_turf_of_7_um_tubes_cannot_grow_clear() {
+    fn independently_tilted_7_um_tubes_cannot_grow_clear() {
         let err = generate_turf(&scene_turf(7000.0)).unwrap_err();
         assert!(
             matches!(err, TurfError::Interpenetrating { wanted: 9, .. }),
             "{err}"
         );
+    }
+
+    #[test]
+    fn collectively_grown_7_um_tubes_of_the_scene_grow_clear() {
+        // scenes/turf_compression.toml: the patch leans by 0.1 rad, each tube by 0.02 rad about
+        // that, 80 % of the 50 nm wave shared
+        let p = TurfParams {
+            mean_tilt: 0.1,
+            mean_azimuth: 0.0,
+            tilt_spread: 0.02,
+            wave_coherence: 0.8,
+            ..scene_turf(7000.0)
+        };
+        let t = generate_turf(&p).unwrap();
+        assert_eq!(t.tubes.len(), 9);
+        let clearance = smallest_clearance(&t, &p);
+        assert!(clearance >= 0.0, "clearance {clearance} nm");
+        // the patch leans as a whole along x: every top is displaced by about L sin 0.1 ≈ 700
+        // nm along x, spread by the per-tube tilt (≈ 0.02 × 7 µm = 140 nm rms) and the wave
+        for tube in &t.tubes {
+            let (b, top) = (tube.nodes[0], *tube.nodes.last().unwrap());
+            let lean = (top[0] - b[0]) / top[2];
+            assert!((lean - 0.1f64.tan()).abs() < 0.1, "lean {lean}");
+        }
+    }
+
+    /// Unit vector of the straight tube's first segment.
+    fn first_direction(tube: &Tube) -> [f64; 3] {
+        let (a, b) = (tube.nodes[0], tube.nodes[1]);
+        let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        d.map(|c| c / n)
+    }
+
+    #[test]
+    fn tilts_spread_about_the_mean_direction() {
+        // sparse straight short tubes (few rejections, so no bias towards parallel tubes)
+        let (theta, phi, spread) = (0.4, 1.0, 0.05);
+        let p = TurfParams {
+            density: 1e-4,
+            box_x: 6325.0,
+            box_y: 6325.0,
+            radius_outer: 5.0,
+            radius_inner: 4.0,
+            length_mean: 200.0,
+            length_cv: 0.0,
+            tilt_spread: spread,
+            mean_tilt: theta,
+            mean_azimuth: phi,
+            wave_amplitude: 0.0,
+            ..TurfParams::default()
+        };
+        let t = generate_turf(&p).unwrap();
+        let d0 = [
+            f64::sin(theta) * f64::cos(phi),
+            f64::sin(theta) * f64::sin(phi),
+            f64::cos(theta),
+        ];
+        let n = t.tubes.len() as f64;
+        let mut mean = [0.0; 3];
+        let mut angle2 = 0.0;
+        for tube in &t.tubes {
+            let d = first_direction(tube);
+            let cos = (d[0] * d0[0] + d[1] * d0[1] + d[2] * d0[2]).min(1.0);
+            angle2 += cos.acos().powi(2) / n;
+            (0..3).for_each(|k| mean[k] += d[k] / n);
+        }
+        // 4000 tubes: the mean direction's error is ~spread/√4000 ≈ 8e-4 per component; 4e-3
+        // is five standard errors
+        for k in 0..3 {
+            assert!((mean[k] - d0[k]).abs() < 4e-3, "mean {mean:?} vs {d0:?}");
+        }
+        // the angle to d₀ is the per-tube tilt: <angle²> = 2 spread² (10 %: 1/√4000 ≈ 1.6 %
+        // standard error of a χ² mean with 2 degrees of freedom, six of them)
+        assert!(
+            (angle2 / (2.0 * spread * spread) - 1.0).abs() < 0.1,
+            "angle² {angle2}"
+        );
+    }
+
+    #[test]
+    fn fully_coherent_waves_make_translated_copies() {
+        // no per-tube tilt, one length, c = 1: every tube is the same wavy curve translated;
+        // c = 0.5 keeps a per-tube part, so the shapes differ
+        let p = TurfParams {
+            density: 1e-4,
+            box_x: 300.0,
+            box_y: 300.0,
+            length_mean: 2000.0,
+            length_cv: 0.0,
+            tilt_spread: 0.0,
+            mean_tilt: 0.2,
+            wave_amplitude: 20.0,
+            wave_length: 700.0,
+            wave_coherence: 1.0,
+            segment_length: 100.0,
+            ..TurfParams::default()
+        };
+        let shape = |t: &Tube| -> Vec<[f64; 3]> {
+            let b = t.nodes[0];
+            t.nodes
+                .iter()
+                .map(|n| [n[0] - b[0], n[1] - b[1], n[2] - b[2]])
+                .collect()
+        };
+        // same shapes up to the rounding of the translation (coordinates of order 10³ nm)
+        let same = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+            a.iter()
+                .zip(b)
+                .all(|(u, v)| (0..3).all(|k| (u[k] - v[k]).abs() < 1e-9))
+        };
+        let t = generate_turf(&p).unwrap();
+        let first = shape(&t.tubes[0]);
+        assert!(first.iter().any(|n| n[0].hypot(n[1]) > 100.0), "it leans");
+        assert!(t.tubes.iter().all(|tube| same(&shape(tube), &first)));
+        let half = generate_turf(&TurfParams {
+            wave_coherence: 0.5,
+            ..p
+        })
+        .unwrap();
+        let first = shape(&half.tubes[0]);
+        assert!(!half.tubes[1..]
+            .iter()
+            .any(|tube| same(&shape(tube), &first)));
+    }
+
+    #[test]
+    fn out_of_range_growth_parameters_are_errors() {
+        for bad in [
+            TurfParams {
+                mean_tilt: 1.5,
+                ..TurfParams::default()
+            },
+            TurfParams {
+                wave_coherence: 1.2,
+                ..TurfParams::default()
+            },
+        ] {
+            assert!(matches!(
+                generate_turf(&bad),
+                Err(TurfError::InvalidParameter { .. })
+            ));
+        }
     }
 
     #[test]

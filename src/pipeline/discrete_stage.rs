@@ -8,14 +8,17 @@
 //! the homogenize stage fits), `discrete_analysis.json` (the fit or why it failed), the
 //! tangent moduli as `discrete_tangent.csv`, plots under `plots/`, and, with `[output] vtk`,
 //! the tubes as VTK polylines at the relaxed state, the peak strain and the end
-//! (`vtk/discrete_step_NNN.vtu`).
+//! (`vtk/discrete_step_NNN.vtu`). After every strain step it saves `discrete_checkpoint.json`
+//! ([`crate::discrete::checkpoint`]); with `--resume` ([`StageContext::resume`]) a run of the
+//! same scene continues after the last saved step and gives the uninterrupted curve.
 
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::analysis::{Branch, CurveAnalysis};
 use crate::discrete::broadphase::PeriodicBox;
-use crate::discrete::drive::{compress, CompressionParams, StepRecord};
+use crate::discrete::checkpoint::{Checkpoint, SavedRelaxation};
+use crate::discrete::drive::{compress, CompressionParams, Resume, SavedStep, StepRecord};
 use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
-use crate::discrete::model::{relax, StaticSolver, TurfSystem};
+use crate::discrete::model::{relax, State, StaticSolver, TurfSystem};
 use crate::discrete::platen::DEFAULT_WALL_STIFFNESS;
 use crate::discrete::rod::RodStiffness;
 use crate::discrete::solve_fire::FireParams;
@@ -36,6 +39,17 @@ use std::path::PathBuf;
 
 /// Segments per tube when `[turf.tube] segment` is not given (the scene reference's default).
 const DEFAULT_SEGMENTS_PER_TUBE: f64 = 20.0;
+
+/// The drive's checkpoint in the output folder, rewritten after every step (`--resume`).
+pub(super) const CHECKPOINT: &str = "discrete_checkpoint.json";
+
+/// The relaxation as the summary reports it: the generated and relaxed states and the cost
+/// (from the solve, or from the checkpoint of a resumed run).
+struct RelaxReport {
+    initial: State,
+    state: State,
+    cost: SavedRelaxation,
+}
 
 /// File names of the branches handed to the homogenize stage.
 pub(super) const LOADING_CSV: &str = "stress_strain_loading.csv";
@@ -94,12 +108,56 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     .map_err(|e| failed(e.to_string()))?;
     let solver = static_solver(k);
     let mut x = turf.coordinates();
+    let checkpoint_path = ctx.out_dir.join(CHECKPOINT);
+    let fingerprint = serde_json::to_string(&(s.scene.seed, t, k))
+        .map_err(|e| failed(format!("scene fingerprint: {e}")))?;
+    let saved = if ctx.resume {
+        Checkpoint::load(&checkpoint_path, &fingerprint, x.len())
+            .map_err(|e| failed(e.to_string()))?
+    } else {
+        None
+    };
 
-    if let Some(bar) = ctx.progress {
-        bar.set_message("discrete: relaxing the turf");
-    }
-    let relaxed = relax(&mut sys, &mut x, &solver)
-        .map_err(|e| failed(format!("relaxation of the generated turf: {e}")))?;
+    let (relaxed, resume) = match &saved {
+        Some(c) => {
+            // the relaxed configuration is step 0's; its states are recomputed from it
+            sys.model.platen = None;
+            let initial = sys.state(&x);
+            let steps = c.saved_steps();
+            x.copy_from_slice(&steps[0].x);
+            let state = sys.state(&x);
+            let resume = Resume {
+                start_height: c.start_height(),
+                steps,
+            };
+            (
+                RelaxReport {
+                    initial,
+                    state,
+                    cost: c.relaxation.clone(),
+                },
+                Some(resume),
+            )
+        }
+        None => {
+            if let Some(bar) = ctx.progress {
+                bar.set_message("discrete: relaxing the turf");
+            }
+            let r = relax(&mut sys, &mut x, &solver)
+                .map_err(|e| failed(format!("relaxation of the generated turf: {e}")))?;
+            let cost = SavedRelaxation {
+                iterations: r.info.cost.iterations,
+                gradient_evaluations: r.info.cost.gradient_evaluations,
+                seconds: r.info.cost.seconds,
+            };
+            let report = RelaxReport {
+                initial: r.initial,
+                state: r.state,
+                cost,
+            };
+            (report, None)
+        }
+    };
     if relaxed.state.min_gap < 0.0 {
         return Err(failed(format!(
             "the generated turf has interpenetrating tubes that the relaxation did not separate \
@@ -116,8 +174,10 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     };
     let vtk_steps = [0, k.steps, if k.unload { 2 * k.steps } else { k.steps }];
     let mut vtk_files: Vec<PathBuf> = Vec::new();
-    let mut vtk_error = None;
+    let mut side_error = None;
     let total = if k.unload { 2 * k.steps } else { k.steps };
+    let start_height = resume.as_ref().map_or(sys.height(&x), |r| r.start_height);
+    let mut reached: Vec<SavedStep> = Vec::new();
     let mut observe = |rec: &StepRecord, xs: &[f64]| {
         if let Some(bar) = ctx.progress {
             bar.set_message(format!(
@@ -125,22 +185,40 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
                 rec.step, rec.strain, rec.stress
             ));
         }
-        if s.output.vtk && vtk_steps.contains(&rec.step) && vtk_error.is_none() {
+        if side_error.is_some() {
+            return;
+        }
+        reached.push(SavedStep {
+            cost: rec.cost,
+            x: xs.to_vec(),
+        });
+        let c = Checkpoint::new(&fingerprint, relaxed.cost.clone(), start_height, &reached);
+        if let Err(e) = c.save(&checkpoint_path) {
+            side_error = Some(failed(e.to_string()));
+        } else if s.output.vtk && vtk_steps.contains(&rec.step) {
             let rel = PathBuf::from(format!("vtk/discrete_step_{:03}.vtu", rec.step));
             match polylines(&turf.layout(), xs).write(&ctx.out_dir.join(&rel)) {
                 Ok(()) => vtk_files.push(rel),
-                Err(e) => vtk_error = Some(e),
+                Err(e) => side_error = Some(report(e)),
             }
         }
     };
-    let records = compress(&mut sys, &mut x, &params, &solver, &mut observe)
-        .map_err(|e| failed(e.to_string()))?;
-    if let Some(e) = vtk_error {
-        return Err(report(e));
+    let records = compress(
+        &mut sys,
+        &mut x,
+        &params,
+        &solver,
+        resume.as_ref(),
+        &mut observe,
+    )
+    .map_err(|e| failed(e.to_string()))?;
+    if let Some(e) = side_error {
+        return Err(e);
     }
     let analysis = analyse(&records);
 
     let mut files = vtk_files;
+    files.push(CHECKPOINT.into());
     let steps = steps_table(&records);
     steps
         .write(&ctx.out_dir.join("stress_strain.csv"))
@@ -173,8 +251,11 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     put("tubes", turf.tubes.len() as f64);
     put("segments", sys.model.rods.segments() as f64);
     put("box_area_nm2", area);
+    if let Some(r) = &resume {
+        put("resumed_after_step", (r.steps.len() - 1) as f64);
+    }
     let b0 = relaxed.initial.energy.balance();
-    let b = relaxed.balance();
+    let b = relaxed.state.energy.balance();
     put("generated_elastic_aJ", b0.elastic);
     put("generated_contact_aJ", b0.contact);
     put("generated_contacts", relaxed.initial.contacts as f64);
@@ -187,8 +268,8 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     if relaxed.state.min_gap.is_finite() {
         put("relaxed_min_gap_nm", relaxed.state.min_gap);
     }
-    put("relaxation_iterations", relaxed.info.cost.iterations as f64);
-    put("wall_time_relaxation_s", relaxed.info.cost.seconds);
+    put("relaxation_iterations", relaxed.cost.iterations as f64);
+    put("wall_time_relaxation_s", relaxed.cost.seconds);
     put("turf_height_nm", records[0].height);
     put("peak_stress_GPa", analysis.peak_stress);
     put("loading_work_GPa", analysis.loading_work);
@@ -217,7 +298,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         "compression_iterations",
         records.iter().map(|r| r.cost.iterations).sum::<usize>() as f64,
     );
-    let evaluations = relaxed.info.cost.gradient_evaluations
+    let evaluations = relaxed.cost.gradient_evaluations
         + records
             .iter()
             .map(|r| r.cost.gradient_evaluations)
@@ -325,7 +406,10 @@ fn turf_params(t: &crate::scene::turf::Turf, seed: u64) -> TurfParams {
         length_mean: g.length.0,
         length_cv: g.length_spread.0,
         tilt_spread: g.tilt.0,
+        mean_tilt: g.mean_tilt.0,
+        mean_azimuth: g.mean_azimuth.0,
         wave_amplitude: g.waviness.0,
+        wave_coherence: g.wave_coherence.0,
         // a straight tube (waviness 0) ignores the wavelength
         wave_length: g.wavelength.map_or(g.length.0, |w| w.0),
         segment_length: t

@@ -47,6 +47,8 @@ pub struct StageContext<'a> {
     /// the run's progress bar (on a terminal, not with --json): long stages report their
     /// progress in its message
     pub progress: Option<&'a indicatif::ProgressBar>,
+    /// continue from a checkpoint in `out_dir` if there is one ([`RunOptions::resume`])
+    pub resume: bool,
 }
 
 /// What a stage returns: its answer and its cost.
@@ -128,6 +130,9 @@ pub struct RunOptions {
     pub out: Option<PathBuf>,
     /// show a progress bar on the terminal
     pub progress: bool,
+    /// continue a long stage from the checkpoint an earlier run of the scene left in the
+    /// output folder (the discrete drive: `discrete_checkpoint.json`)
+    pub resume: bool,
 }
 
 /// The internal units, echoed in `summary.json`.
@@ -302,7 +307,13 @@ pub fn run_with(
                     None => stage.to_string(),
                 });
             }
-            let result = run_cached(stage, scene, &out_dir, &dir, &done, bar.as_ref(), runner);
+            let ctx = StageContext {
+                out_dir: &dir,
+                previous: &done,
+                progress: bar.as_ref(),
+                resume: opts.resume,
+            };
+            let result = run_cached(stage, scene, &out_dir, &ctx, runner);
             if let Some(b) = &bar {
                 b.inc(1);
             }
@@ -351,14 +362,13 @@ fn run_cached(
     stage: Stage,
     scene: &ResolvedScene,
     root: &Path,
-    dir: &Path,
-    previous: &[StageRecord],
-    progress: Option<&indicatif::ProgressBar>,
+    ctx: &StageContext,
     runner: &mut Runner,
 ) -> Result<StageRecord, StageError> {
     let report = |source| StageError::Report { stage, source };
-    let Some(key) = cache::key(stage, scene, previous) else {
-        return run_one(stage, scene, dir, previous, progress, runner);
+    let (dir, progress) = (ctx.out_dir, ctx.progress);
+    let Some(key) = cache::key(stage, scene, ctx.previous) else {
+        return run_one(stage, scene, ctx, runner);
     };
     let start = Instant::now();
     if let Some(mut record) = cache::reuse(root, dir, stage, &key).map_err(report)? {
@@ -373,7 +383,7 @@ fn run_cached(
         }
         return Ok(record);
     }
-    let mut record = run_one(stage, scene, dir, previous, progress, runner)?;
+    let mut record = run_one(stage, scene, ctx, runner)?;
     record.cache_key = Some(key.hex.clone());
     cache::store(root, dir, &key, &record).map_err(report)?;
     Ok(record)
@@ -383,18 +393,12 @@ fn run_cached(
 fn run_one(
     stage: Stage,
     scene: &ResolvedScene,
-    dir: &Path,
-    previous: &[StageRecord],
-    progress: Option<&indicatif::ProgressBar>,
+    ctx: &StageContext,
     runner: &mut Runner,
 ) -> Result<StageRecord, StageError> {
-    let ctx = StageContext {
-        out_dir: dir,
-        previous,
-        progress,
-    };
+    let dir = ctx.out_dir;
     let start = Instant::now();
-    let out = runner(stage, scene, &ctx)?;
+    let out = runner(stage, scene, ctx)?;
     let wall_time_s = start.elapsed().as_secs_f64();
     if let Some((name, _)) = out.values.iter().find(|(_, v)| !v.is_finite()) {
         return Err(StageError::Failed {
@@ -471,6 +475,7 @@ cells_per_zone = 12
         let opts = RunOptions {
             out: Some(dir.clone()),
             progress: false,
+            resume: false,
         };
         let report = run(&loaded, &opts).unwrap();
         let e = report
@@ -498,6 +503,7 @@ cells_per_zone = 12
         let opts = RunOptions {
             out: Some(dir.clone()),
             progress: false,
+            resume: false,
         };
         let mut runner = |stage: Stage, _: &ResolvedScene, ctx: &StageContext| match stage {
             Stage::Theory => {
@@ -541,6 +547,7 @@ cells_per_zone = 12
         let opts = RunOptions {
             out: Some(dir.clone()),
             progress: false,
+            resume: false,
         };
         let mut runner = |_: Stage, _: &ResolvedScene, _: &StageContext| {
             Ok(StageOutput {

@@ -55,17 +55,31 @@ pub struct Growth {
     /// Relative standard deviation of the lengths, in [0, 1). Default 0.
     #[serde(default)]
     pub length_spread: Number,
-    /// Standard deviation of the growth direction from the normal, radians, in [0, π/2).
-    /// Default 0.
+    /// Spread of each tube's growth direction about the turf's mean direction: the standard
+    /// deviation of each of its two tilt components, radians, in [0, π/2). Default 0.
     #[serde(default)]
     pub tilt: Number,
+    /// Tilt of the turf-wide mean growth direction from the normal, radians, in [0, 80°)
+    /// (the tubes of a turf lean together). Default 0 (vertical).
+    #[serde(default)]
+    pub mean_tilt: Number,
+    /// Azimuth of the mean growth direction, radians from x. Default 0.
+    #[serde(default)]
+    pub mean_azimuth: Number,
     /// Amplitude of the tubes' waviness, nm, ≥ 0. Default 0 (straight).
     #[serde(default)]
     pub waviness: Length,
     /// Wavelength of the waviness, nm. Required when `waviness` > 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wavelength: Option<Length>,
+    /// Coherence c of the waviness, in [0, 1]: every tube waves by c × `waviness` along one
+    /// turf-wide wave plus √(1 − c²) × `waviness` along its own. Default 0 (independent).
+    #[serde(default)]
+    pub wave_coherence: Number,
 }
+
+/// Largest mean tilt, radians (80°: the engine's bound, tubes must rise from the substrate).
+const MAX_MEAN_TILT: f64 = 80.0 * std::f64::consts::PI / 180.0;
 
 /// `[turf.vdw]` / `[rods.vdw]`: tube–tube van der Waals contact. Absent: tubes do not interact
 /// (no contact search).
@@ -167,6 +181,25 @@ impl Turf {
             std::f64::consts::FRAC_PI_2,
             false,
         );
+        c.number_in(
+            "turf.growth.mean_tilt",
+            g.mean_tilt.0,
+            0.0,
+            MAX_MEAN_TILT,
+            false,
+        );
+        if !g.mean_azimuth.0.is_finite() {
+            c.bad(
+                "turf.growth.mean_azimuth",
+                format!("{} is not allowed: must be finite", g.mean_azimuth.0),
+            );
+        }
+        if !(0.0..=1.0).contains(&g.wave_coherence.0) {
+            c.bad(
+                "turf.growth.wave_coherence",
+                format!("{} is not allowed: must lie in [0, 1]", g.wave_coherence.0),
+            );
+        }
         if g.waviness.0 < 0.0 {
             c.bad(
                 "turf.growth.waviness",

@@ -1,0 +1,292 @@
+//! Checkpoints of the platen drive (issue 7, item 8): a long compression saves its state after
+//! every strain step, and an interrupted run resumes from the last saved step with the same
+//! curve as an uninterrupted one (`turf run … --resume`).
+//!
+//! The drive is a sequence of static equilibria, each warm-started from the previous one, and
+//! every step's record (strain, stress, energies, contacts) is a function of its configuration
+//! alone (the contact list is sorted and rebuilt from the positions, so its history does not
+//! change a sum). A checkpoint therefore holds no random numbers and no solver state: the
+//! platen's start height H₀, and for every step reached its node positions and what its solve
+//! cost. Positions are stored as the bit patterns of the f64 (`f64::to_bits`): JSON decimals
+//! do not round-trip every double exactly, and the resumed solve must start from the very same
+//! configuration. With them the checkpoint holds the relaxation's report and the text of the
+//! scene's `[turf]` and `[compression]` sections, so that a checkpoint of another scene is
+//! refused rather than continued.
+
+use super::drive::SavedStep;
+use super::solve::Cost;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Format version written into every checkpoint; a different one is refused.
+const FORMAT: u32 = 1;
+
+/// What the drive has done so far.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Checkpoint {
+    /// [`FORMAT`]
+    pub format: u32,
+    /// the scene sections the run was started from (compared as text on resume)
+    pub scene: String,
+    /// the relaxation's report
+    pub relaxation: SavedRelaxation,
+    /// platen start height H₀, as f64 bits
+    pub start_height_bits: u64,
+    /// steps reached, step 0 (the relaxed turf) first
+    pub steps: Vec<SavedStepBits>,
+}
+
+/// The relaxation as reported in the summary (its configuration is step 0's).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SavedRelaxation {
+    /// Newton / FIRE iterations
+    pub iterations: usize,
+    /// energy + gradient evaluations
+    pub gradient_evaluations: usize,
+    /// wall time, s
+    pub seconds: f64,
+}
+
+/// One step in the file: its solve's cost and its positions as f64 bits.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SavedStepBits {
+    /// solver iterations
+    pub iterations: usize,
+    /// energy + gradient evaluations
+    pub gradient_evaluations: usize,
+    /// Hessian assemblies
+    pub hessian_evaluations: usize,
+    /// factorisations
+    pub factorizations: usize,
+    /// wall time, s
+    pub seconds: f64,
+    /// node coordinates, `f64::to_bits`
+    pub x_bits: Vec<u64>,
+}
+
+/// Why a checkpoint could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckpointError {
+    /// reading or writing the file
+    #[error("checkpoint {path}: {source}")]
+    Io {
+        /// the file
+        path: String,
+        /// cause
+        source: std::io::Error,
+    },
+    /// not a checkpoint of this format
+    #[error("checkpoint {path} cannot be read: {reason}")]
+    Invalid {
+        /// the file
+        path: String,
+        /// what is wrong
+        reason: String,
+    },
+    /// written for another scene or another number of nodes
+    #[error(
+        "checkpoint {path} belongs to another run: {reason}; remove it or run without --resume"
+    )]
+    Mismatch {
+        /// the file
+        path: String,
+        /// what differs
+        reason: String,
+    },
+}
+
+impl SavedStepBits {
+    fn from_step(s: &SavedStep) -> Self {
+        SavedStepBits {
+            iterations: s.cost.iterations,
+            gradient_evaluations: s.cost.gradient_evaluations,
+            hessian_evaluations: s.cost.hessian_evaluations,
+            factorizations: s.cost.factorizations,
+            seconds: s.cost.seconds,
+            x_bits: s.x.iter().map(|v| v.to_bits()).collect(),
+        }
+    }
+
+    fn to_step(&self) -> SavedStep {
+        SavedStep {
+            cost: Cost {
+                iterations: self.iterations,
+                gradient_evaluations: self.gradient_evaluations,
+                hessian_evaluations: self.hessian_evaluations,
+                factorizations: self.factorizations,
+                seconds: self.seconds,
+            },
+            x: self.x_bits.iter().map(|&b| f64::from_bits(b)).collect(),
+        }
+    }
+}
+
+impl Checkpoint {
+    /// A checkpoint of `scene` after the relaxation and the steps `steps` from height `h0`.
+    pub fn new(scene: &str, relaxation: SavedRelaxation, h0: f64, steps: &[SavedStep]) -> Self {
+        Checkpoint {
+            format: FORMAT,
+            scene: scene.to_string(),
+            relaxation,
+            start_height_bits: h0.to_bits(),
+            steps: steps.iter().map(SavedStepBits::from_step).collect(),
+        }
+    }
+
+    /// Platen start height H₀, nm.
+    pub fn start_height(&self) -> f64 {
+        f64::from_bits(self.start_height_bits)
+    }
+
+    /// The saved steps, step 0 first.
+    pub fn saved_steps(&self) -> Vec<SavedStep> {
+        self.steps.iter().map(SavedStepBits::to_step).collect()
+    }
+
+    /// Write to `path` atomically (a temporary file renamed over the old one), so that an
+    /// interruption during the write leaves the previous checkpoint intact.
+    pub fn save(&self, path: &Path) -> Result<(), CheckpointError> {
+        let io = |source| CheckpointError::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        let text = serde_json::to_string(self).map_err(|e| CheckpointError::Invalid {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(io)?;
+        }
+        let tmp = path.with_extension("json.tmp");
+        std::fs::write(&tmp, text).map_err(io)?;
+        std::fs::rename(&tmp, path).map_err(io)
+    }
+
+    /// Read the checkpoint at `path` (`Ok(None)` if there is none) and check that it belongs to
+    /// `scene` with `coordinates` node coordinates per step.
+    pub fn load(
+        path: &Path,
+        scene: &str,
+        coordinates: usize,
+    ) -> Result<Option<Checkpoint>, CheckpointError> {
+        let p = path.display().to_string();
+        let text = match std::fs::read_to_string(path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(source) => return Err(CheckpointError::Io { path: p, source }),
+        };
+        let c: Checkpoint = serde_json::from_str(&text).map_err(|e| CheckpointError::Invalid {
+            path: p.clone(),
+            reason: e.to_string(),
+        })?;
+        let mismatch = |reason: String| CheckpointError::Mismatch {
+            path: p.clone(),
+            reason,
+        };
+        if c.format != FORMAT {
+            return Err(CheckpointError::Invalid {
+                path: p.clone(),
+                reason: format!("format {} (this build reads {FORMAT})", c.format),
+            });
+        }
+        if c.scene != scene {
+            return Err(mismatch(
+                "its [turf] / [compression] sections differ from the scene's".into(),
+            ));
+        }
+        if c.steps.is_empty() {
+            return Err(CheckpointError::Invalid {
+                path: p,
+                reason: "it holds no step".into(),
+            });
+        }
+        if let Some(s) = c.steps.iter().find(|s| s.x_bits.len() != coordinates) {
+            return Err(mismatch(format!(
+                "a step has {} coordinates, the turf {coordinates}",
+                s.x_bits.len()
+            )));
+        }
+        Ok(Some(c))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A checkpoint path in a folder that does not exist yet (`save` creates it).
+    fn temp(name: &str) -> std::path::PathBuf {
+        let d = std::env::temp_dir().join(format!("turf_checkpoint_{name}_{}", std::process::id()));
+        std::fs::remove_dir_all(&d).ok();
+        d.join("discrete_checkpoint.json")
+    }
+
+    fn steps() -> Vec<SavedStep> {
+        // values that no short decimal represents: the bits must survive exactly
+        let x = vec![0.1 + 0.2, std::f64::consts::PI * 1e3, -1.0 / 3.0, 7e-310];
+        vec![
+            SavedStep {
+                cost: Cost::default(),
+                x: x.clone(),
+            },
+            SavedStep {
+                cost: Cost {
+                    iterations: 12,
+                    gradient_evaluations: 30,
+                    hessian_evaluations: 12,
+                    factorizations: 15,
+                    seconds: 0.25,
+                },
+                x: x.iter().map(|v| v * (1.0 + f64::EPSILON)).collect(),
+            },
+        ]
+    }
+
+    fn relaxation() -> SavedRelaxation {
+        SavedRelaxation {
+            iterations: 5,
+            gradient_evaluations: 9,
+            seconds: 0.5,
+        }
+    }
+
+    #[test]
+    fn a_saved_checkpoint_reads_back_bit_for_bit() {
+        let path = temp("roundtrip");
+        let c = Checkpoint::new("[turf]\nx = 1", relaxation(), 2125.9 + 1e-12, &steps());
+        c.save(&path).unwrap();
+        let back = Checkpoint::load(&path, "[turf]\nx = 1", 4)
+            .unwrap()
+            .unwrap();
+        assert_eq!(back, c);
+        assert_eq!(back.start_height().to_bits(), (2125.9 + 1e-12f64).to_bits());
+        let (a, b) = (back.saved_steps(), steps());
+        for (s, t) in a.iter().zip(&b) {
+            assert_eq!(s.cost, t.cost);
+            assert!(s
+                .x
+                .iter()
+                .zip(&t.x)
+                .all(|(u, v)| u.to_bits() == v.to_bits()));
+        }
+        std::fs::remove_file(&path).ok();
+    }
+
+    #[test]
+    fn no_file_is_no_checkpoint_and_another_run_is_refused() {
+        let path = temp("mismatch");
+        std::fs::remove_file(&path).ok();
+        assert!(Checkpoint::load(&path, "s", 4).unwrap().is_none());
+        Checkpoint::new("s", relaxation(), 1.0, &steps())
+            .save(&path)
+            .unwrap();
+        let other = Checkpoint::load(&path, "t", 4).unwrap_err();
+        assert!(matches!(other, CheckpointError::Mismatch { .. }), "{other}");
+        let size = Checkpoint::load(&path, "s", 6).unwrap_err();
+        assert!(size.to_string().contains("4 coordinates"), "{size}");
+        std::fs::write(&path, "{\"format\": 1").unwrap();
+        let bad = Checkpoint::load(&path, "s", 4).unwrap_err();
+        assert!(matches!(bad, CheckpointError::Invalid { .. }), "{bad}");
+        std::fs::remove_file(&path).ok();
+    }
+}
