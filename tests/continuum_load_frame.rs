@@ -157,6 +157,15 @@ fn elastic_specimen_carries_hertz_and_the_springs_the_rest() {
 fn soft_support_and_rigid_frame_is_plain_load_control() {
     let mut a = params(frame(0.0, f64::INFINITY));
     a.mesh.elements_per_radius = 8.0;
+    // without support springs nothing holds the indenter before contact: approach by depth
+    // first, as plain load control needs
+    a.schedule.insert(
+        0,
+        Segment::Approach {
+            to: 2.0,
+            rate: 10.0,
+        },
+    );
     let mut b = a.clone();
     b.machine = Machine::Load;
     let (ra, rb) = (run(&a), run(&b));
