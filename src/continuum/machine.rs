@@ -288,3 +288,82 @@ impl NewtonSystem for Driven<'_> {
         Ok(a)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Central differences of a quadratic energy are exact up to round-off of its size
+    /// (~1e6 aJ here): 1e-6 relative to the forces (~1e3 nN).
+    const FD_TOL: f64 = 1e-6;
+
+    fn drives() -> Vec<Drive> {
+        vec![
+            Drive::Spring {
+                stiffness: 1e3,
+                drive: 40.0,
+            },
+            Drive::Load(2e3),
+            Drive::Frame {
+                k1: 100.0,
+                k2: 2.1e8,
+                load: 2e4,
+            },
+            Drive::Frame {
+                k1: 0.0,
+                k2: 1e4,
+                load: 2e4,
+            },
+            Drive::Frame {
+                k1: 100.0,
+                k2: f64::INFINITY,
+                load: 2e4,
+            },
+        ]
+    }
+
+    #[test]
+    fn force_and_stiffness_are_derivatives_of_the_energy() {
+        let (delta, h) = (30.0, 1e-3);
+        for d in drives() {
+            let fd_force = -(d.energy(delta + h) - d.energy(delta - h)) / (2.0 * h);
+            let fd_stiff = -(d.force(delta + h) - d.force(delta - h)) / (2.0 * h);
+            let scale = d.force(delta).abs().max(1.0);
+            assert!((fd_force - d.force(delta)).abs() < FD_TOL * scale, "{d:?}");
+            assert!((fd_stiff - d.stiffness()).abs() < FD_TOL * scale, "{d:?}");
+        }
+    }
+
+    #[test]
+    fn transducer_is_the_minimum_over_the_plate_and_has_its_limits() {
+        // ½k₁h² + ½k₂(h − δ)² − P̂h at its minimum h* differs from the reduced energy by a
+        // constant: compare two depths
+        let (k1, k2, p) = (100.0, 1e4, 2e4);
+        let full = |delta: f64| {
+            let h = (p + k2 * delta) / (k1 + k2);
+            0.5 * k1 * h * h + 0.5 * k2 * (h - delta).powi(2) - p * h
+        };
+        let d = Drive::Frame { k1, k2, load: p };
+        let change = d.energy(50.0) - d.energy(10.0);
+        assert!((change - (full(50.0) - full(10.0))).abs() < FD_TOL * full(10.0).abs());
+        // the plate: P̂ = k₁h + Q
+        let m = Machine::LoadFrame { k1, k2 };
+        let q = d.force(30.0);
+        assert!((m.applied_load(q, 30.0) - p).abs() < FD_TOL * p);
+        assert!((k1 * d.position(30.0, q) + q - p).abs() < FD_TOL * p);
+        // k₁ = 0 is load control; k₂ = ∞ a rigid frame (plate = indenter)
+        let soft = Drive::Frame {
+            k1: 0.0,
+            k2: f64::INFINITY,
+            load: p,
+        };
+        assert_eq!((soft.force(30.0), soft.stiffness()), (p, 0.0));
+        let rigid = Drive::Frame {
+            k1,
+            k2: f64::INFINITY,
+            load: p,
+        };
+        assert_eq!(rigid.position(30.0, rigid.force(30.0)), 30.0);
+        assert_eq!(rigid.stiffness(), k1);
+    }
+}
