@@ -104,6 +104,7 @@ fn run_stand_in(dir: &Path, calls: &mut Calls, overrides: &[&str]) -> serde_json
     let opts = RunOptions {
         out: Some(dir.to_path_buf()),
         progress: false,
+        resume: false,
     };
     let mut runner =
         |st: Stage, sc: &ResolvedScene, ctx: &StageContext| stand_in(calls, st, sc, ctx);
@@ -242,6 +243,7 @@ fn the_real_discrete_stage_is_reused_when_only_the_fit_changes() {
     let opts = RunOptions {
         out: Some(dir.clone()),
         progress: false,
+        resume: false,
     };
     let summary = |sets: &[&str]| {
         let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();

@@ -36,6 +36,7 @@ fn a_failed_run_reports_each_stage_its_cost_its_plot_and_the_failure() {
     let opts = RunOptions {
         out: Some(dir.clone()),
         progress: false,
+        resume: false,
     };
     let mut runner = |stage: Stage, _: &ResolvedScene, ctx: &StageContext| match stage {
         Stage::Theory => {
@@ -94,6 +95,7 @@ fn a_complete_run_reports_every_stage_and_no_failure() {
     let opts = RunOptions {
         out: Some(dir.clone()),
         progress: false,
+        resume: false,
     };
     let mut runner = |_: Stage, _: &ResolvedScene, _: &StageContext| {
         Ok(StageOutput {
@@ -127,6 +129,7 @@ fn a_sweep_reports_each_value_with_its_stages_in_its_folder() {
     let opts = RunOptions {
         out: Some(dir.clone()),
         progress: false,
+        resume: false,
     };
     let mut runner = |stage: Stage, _: &ResolvedScene, _: &StageContext| match stage {
         Stage::Halfspace => Err(StageError::Failed {

@@ -51,6 +51,38 @@ fn every_scene_in_the_folder_loads_and_is_tested_here() {
     }
 }
 
+/// The seed's turf simulations (`scenes/seed/`, seed Figs 6.7–6.11): each one passes what
+/// `turf check` does (load, validate, plan), plans the continuum stage, and says in its header
+/// what it shows, what validates it and what it costs.
+#[test]
+fn every_seed_scene_checks_and_plans_the_continuum_stage() {
+    let seed = [
+        "fig6_11_load_control.toml",
+        "fig6_7_hyperfoam.toml",
+        "fig6_7_linear.toml",
+        "fig6_8_adhesion.toml",
+        "fig6_9_relaxation.toml",
+    ];
+    let dir = scenes_dir().join("seed");
+    let mut found: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    found.sort();
+    assert_eq!(found, seed, "a seed scene was added without a test here");
+    for f in seed {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        assert!(text.starts_with("# "), "{f} must open with its header");
+        for word in ["Shows", "Validated against", "Cost"] {
+            assert!(text.contains(word), "{f}: the header must say {word}");
+        }
+        let loaded = load(&dir.join(f), &[]).unwrap_or_else(|e| panic!("{f}: {e}"));
+        let planned: Vec<Stage> = loaded.base.plan.stages.iter().map(|s| s.stage).collect();
+        assert!(planned.contains(&Stage::Continuum), "{f}: {planned:?}");
+    }
+}
+
 #[test]
 fn seed_card_runs_homogenize_alone_and_reproduces_table_5_1() {
     assert_eq!(stages("seed_card.toml"), [Stage::Homogenize]);

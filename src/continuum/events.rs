@@ -19,6 +19,10 @@
 //!   elastic S-curve is one curve: the approach, traced through, already passes both. A curve with folds is reported
 //!   without jumps (near a fold the gap changes much faster than the drive, which the jump
 //!   test would misread).
+//! - **Hold and loading figures** ([`hold_figures`], [`loading_slope`]), for comparison with the
+//!   quasi-rheological model (seed §2.3): during a hold the load relaxes and the depth creeps,
+//!   along dQ/dδ = −K through a spring K or −χ through the transducer (seed 2.6); the loading
+//!   branch's slope dQ/dδ stands for the specimen's instantaneous stiffness K₁ (seed 2.7).
 //! - **Contact radius** (every row): the outermost radius where the gap is below the law's
 //!   equilibrium gap z₀, i.e. where the LJ pressure changes sign from repulsive to attractive
 //!   ([`super::contact::Contact::contact_radius`]), as in the half-space solver.
@@ -214,6 +218,54 @@ pub fn detect(rows: &[Row]) -> Events {
     ev
 }
 
+/// What a hold did.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[allow(non_snake_case)] // field names carry their units
+pub struct HoldFigures {
+    /// load at the start minus load at the end (> 0: relaxation), nN
+    pub load_drop_nN: f64,
+    /// depth at the end minus depth at the start (> 0: creep into the specimen), nm
+    pub creep_nm: f64,
+    /// dQ/dδ between start and end, nN/nm; none when the depth did not move (rigid drive)
+    pub slope_nN_per_nm: Option<f64>,
+}
+
+/// The figures of a hold from its rows, the row it starts from first (none for fewer than 2).
+pub fn hold_figures(rows: &[Row]) -> Option<HoldFigures> {
+    let (first, last) = (rows.first()?, rows.last()?);
+    if rows.len() < 2 {
+        return None;
+    }
+    let creep = last.depth_nm - first.depth_nm;
+    let drop = first.load_nN - last.load_nN;
+    Some(HoldFigures {
+        load_drop_nN: drop,
+        creep_nm: creep,
+        slope_nN_per_nm: (creep != 0.0).then(|| -drop / creep),
+    })
+}
+
+/// The least-squares slope dQ/dδ of the compressive part (Q ≥ 0) of a loading branch, nN/nm;
+/// none with fewer than two such rows or no spread in depth.
+pub fn loading_slope(rows: &[Row]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.load_nN >= 0.0)
+        .map(|r| (r.depth_nm, r.load_nN))
+        .collect();
+    let n = pts.len() as f64;
+    if pts.len() < 2 {
+        return None;
+    }
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -320,5 +372,31 @@ mod tests {
         assert_eq!(e.fold_out.unwrap().drive_nm, -4.3);
         assert!(e.jump_in.is_none() && e.jump_out.is_none());
         assert_eq!(limit_points(&rows).len(), 4);
+    }
+
+    #[test]
+    fn hold_and_loading_figures() {
+        // a hold along Q = 100 − 4δ: drop 8 nN over 2 nm of creep, slope −4
+        let hold = [
+            row(0, 10.0, 0.0, 60.0),
+            row(0, 11.0, 0.0, 56.0),
+            row(0, 12.0, 0.0, 52.0),
+        ];
+        let h = hold_figures(&hold).unwrap();
+        assert_eq!((h.load_drop_nN, h.creep_nm), (8.0, 2.0));
+        assert_eq!(h.slope_nN_per_nm, Some(-4.0));
+        // a rigid drive does not creep: no slope
+        let rigid = [row(0, 10.0, 0.0, 60.0), row(0, 10.0, 0.0, 50.0)];
+        assert_eq!(hold_figures(&rigid).unwrap().slope_nN_per_nm, None);
+        assert!(hold_figures(&hold[..1]).is_none());
+        // the tensile start is left out: Q = 3δ − 6 for δ ≥ 2
+        let load = [
+            row(0, 0.0, 0.0, -5.0),
+            row(0, 2.0, 0.0, 0.0),
+            row(0, 4.0, 0.0, 6.0),
+            row(0, 6.0, 0.0, 12.0),
+        ];
+        assert_eq!(loading_slope(&load), Some(3.0));
+        assert_eq!(loading_slope(&load[..2]), None);
     }
 }

@@ -359,7 +359,7 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     let (mut depth, mut load) = (p.start, 0.0f64);
     let (mut max_depth, mut max_load) = (p.start, 0.0f64);
     for s in &p.schedule {
-        let by_load = p.machine == Machine::Load && !matches!(s, Segment::Approach { .. });
+        let by_load = p.machine.load_controlled() && !matches!(s, Segment::Approach { .. });
         match *s {
             Segment::Load { to, rate }
             | Segment::Unload { to, rate }
@@ -456,8 +456,9 @@ pub struct Row {
     pub contact_radius_nm: f64,
     /// Newton iterations of the increment
     pub iterations: usize,
-    /// the drive Δ through the machine spring, nm (= δ under displacement control; the load
-    /// controls under load control and this repeats δ)
+    /// the drive Δ through the machine spring, nm (= δ under displacement control; under
+    /// load control the load controls and this repeats δ; through a transducer
+    /// ([`Machine::LoadFrame`]) it is the plate position h = δ + Q/k₂)
     pub drive_nm: f64,
     /// gap at the surface point nearest the axis, nm
     pub gap_nm: f64,
@@ -521,9 +522,10 @@ pub struct IndentResult {
     pub stats: RunStats,
     /// why the run stopped early, if it did
     pub failure: Option<String>,
-    /// under load control: the last converged load of an unloading segment beyond which no
-    /// equilibrium was found (the load-control pull-off, to within the last halved increment);
-    /// the indenter separates there and the rest of the schedule is skipped
+    /// under load control: the specimen's load Q at the last equilibrium of an unloading
+    /// segment beyond which none was found (the load-control pull-off, to within the last
+    /// halved increment; through a transducer the applied P̂ there is larger by k₁h); the
+    /// indenter separates there and the rest of the schedule is skipped
     pub separated_nN: Option<f64>,
 }
 
@@ -553,25 +555,13 @@ fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
 /// The controlled variable at the start of a segment and its target: (value, target,
 /// duration, by load).
 fn segment_span(seg: &Segment, machine: Machine, drive: f64, load: f64) -> (f64, f64, f64, bool) {
-    let by_load = machine == Machine::Load && !matches!(seg, Segment::Approach { .. });
+    let by_load = machine.load_controlled() && !matches!(seg, Segment::Approach { .. });
     let now = if by_load { load } else { drive };
     match *seg {
         Segment::Load { to, rate }
         | Segment::Unload { to, rate }
         | Segment::Approach { to, rate } => (now, to, (to - now).abs() / rate, by_load),
         Segment::Hold { time } => (now, now, time, by_load),
-    }
-}
-
-/// What an increment at controlled value `v` prescribes.
-fn drive_of(machine: Machine, by_load: bool, v: f64) -> Drive {
-    match machine {
-        Machine::Spring { stiffness } => Drive::Spring {
-            stiffness,
-            drive: v,
-        },
-        Machine::Load if by_load => Drive::Load(v),
-        _ => Drive::Depth(v),
     }
 }
 
@@ -711,7 +701,8 @@ pub fn run_indent(
         };
     }
     let mut last_dv = 0.0;
-    let (mut time, mut drive, mut load) = (0.0, p.start, ev0.load);
+    let (mut time, mut drive) = (0.0, p.start);
+    let mut load = p.machine.applied_load(ev0.load, p.start);
     let mut dissipated = 0.0;
     let base = 1.0 / p.solver.increments.max(1) as f64;
 
@@ -725,7 +716,7 @@ pub fn run_indent(
             let new_value = v0 + (target - v0) * (done + s);
             let dt = duration * s;
             let dv = new_value - value;
-            let mode = drive_of(p.machine, by_load, new_value);
+            let mode = p.machine.drive(by_load, new_value);
             // predictor: extrapolate the last increment's change of (u, δ)
             let mut x = u.clone();
             if last_dv != 0.0 && dv * last_dv > 0.0 {
@@ -773,11 +764,9 @@ pub fn run_indent(
                     let profile = contact.profile(&current(&solid, &u), &solid.nodes, depth, small);
                     gaps.clear();
                     gaps.extend(profile.iter().map(|q| q.gap));
-                    drive = match mode {
-                        Drive::Spring { drive, .. } => drive,
-                        _ => depth,
-                    };
-                    load = ev.load;
+                    drive = mode.position(depth, ev.load);
+                    // the controlled force: P̂ = Q except through the transducer's springs
+                    load = p.machine.applied_load(ev.load, depth);
                     let row = Row {
                         time_s: time,
                         depth_nm: depth,
@@ -801,6 +790,12 @@ pub fn run_indent(
                     if info.iterations <= p.solver.quick_iterations {
                         step = (step * p.solver.growth).min(base);
                     }
+                    // `max_cutbacks` bounds the halvings of one increment: a converged
+                    // increment resets the count (it used to run over the whole segment, so
+                    // a long segment with a few recovered cutbacks, e.g. a contact edge
+                    // sweeping over surface nodes, failed with "after 11 halvings" at an
+                    // increment halved once — hyperfoam_indent.toml, docs/validation-continuum.md)
+                    cutbacks = 0;
                 }
                 Err(e) => {
                     cutbacks += 1;
@@ -808,7 +803,9 @@ pub fn run_indent(
                     step *= 0.5;
                     last_dv = 0.0;
                     if cutbacks > p.solver.max_cutbacks && by_load && target < v0 {
-                        result.separated_nN = Some(value);
+                        // the specimen's force at the last equilibrium (= the controlled
+                        // load P̂ without transducer springs)
+                        result.separated_nN = result.rows.last().map(|r| r.load_nN);
                         result
                             .snapshots
                             .push(snapshot(si, time, &u, &solid, &history)?);

@@ -1,10 +1,12 @@
 //! Writing an indentation's results (DESIGN.md): `load_depth.csv`
 //! (`time_s, depth_nm, load_nN, contact_radius_nm`, then `drive_nm`, `gap_nm`, `strain_energy_aJ`,
-//! `damping_dissipated_aJ`), `summary.json`, `plots/load_depth.{svg,png}`
+//! `damping_dissipated_aJ`; through a two-spring transducer also `applied_load_nN`, the
+//! controlled P̂, with `drive_nm` the plate position h), `summary.json`, `plots/load_depth.{svg,png}`
 //! and `vtk/indent_<segment>.vtu` (the deformed mesh with displacements and Cauchy stresses, for
 //! ParaView), all through [`crate::report`].
 
 use super::indent::IndentResult;
+use super::machine::Machine;
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
 use crate::report::vtk::{CellKind, DataArray, Grid};
@@ -85,7 +87,7 @@ impl IndentResult {
     /// Write the CSV, summary, plots and VTU files into `dir`.
     pub fn write(&self, dir: &Path) -> Result<(), ReportError> {
         let col = |f: fn(&super::indent::Row) -> f64| self.rows.iter().map(f).collect::<Vec<_>>();
-        Table::new()
+        let mut table = Table::new()
             .column("time_s", col(|r| r.time_s))
             .column("depth_nm", col(|r| r.depth_nm))
             .column("load_nN", col(|r| r.load_nN))
@@ -93,8 +95,19 @@ impl IndentResult {
             .column("drive_nm", col(|r| r.drive_nm))
             .column("gap_nm", col(|r| r.gap_nm))
             .column("strain_energy_aJ", col(|r| r.strain_energy_aJ))
-            .column("damping_dissipated_aJ", col(|r| r.damping_dissipated_aJ))
-            .write(&dir.join("load_depth.csv"))?;
+            .column("damping_dissipated_aJ", col(|r| r.damping_dissipated_aJ));
+        let m = self.params.machine;
+        if let Machine::LoadFrame { .. } = m {
+            // through a transducer the controlled force P̂ differs from the specimen's Q
+            table = table.column(
+                "applied_load_nN",
+                self.rows
+                    .iter()
+                    .map(|r| m.applied_load(r.load_nN, r.depth_nm))
+                    .collect(),
+            );
+        }
+        table.write(&dir.join("load_depth.csv"))?;
         write_json(&dir.join("summary.json"), &self.summary())?;
         let plots = dir.join("plots");
         Plot::new("Load–depth", "depth δ (nm)", "load P (nN)")

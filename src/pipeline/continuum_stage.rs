@@ -7,14 +7,16 @@
 //!
 //! `thermal_shift = true` shifts the law by the RMS tip amplitude u of the scene's `[turf]`
 //! tubes (seed eq. 5.9, [`crate::theory::thermal`]), reported as `thermal_amplitude_nm`.
-//! `solver.method = "riks"` traces the curve by arc-length continuation through its folds
-//! (elastic, undamped; [`crate::continuum::arclength`]). Physics the FE does not model yet is
-//! refused by name rather than ignored: the load-control machine springs k₁, k₂. The engine's own
+//! Under load control with `machine.k1`, `k2` the force is applied through the two-spring
+//! transducer of seed eqs. 2.1–2.7 ([`FeMachine::LoadFrame`]). `solver.method = "riks"` traces
+//! the curve by arc-length continuation through its folds (elastic, undamped;
+//! [`crate::continuum::arclength`]). The engine's own
 //! files (CSV, plots, VTU) go under `continuum/` in the output folder.
 
 use super::{StageContext, StageError, StageOutput};
 use crate::continuum::adhesion::AdhesionParams;
 use crate::continuum::damping::ContactDamping;
+use crate::continuum::events;
 use crate::continuum::indent::{ContactParams, MaterialParams, MeshParams, SolverParams};
 use crate::continuum::indenter::{Indenter, BERKOVICH_CONE_HALF_ANGLE_DEG};
 use crate::continuum::machine::Machine as FeMachine;
@@ -38,12 +40,6 @@ fn failed(message: String) -> StageError {
         stage: Stage::Continuum,
         message,
     }
-}
-
-fn not_built(what: &str) -> StageError {
-    failed(format!(
-        "{what} is not built into the continuum stage yet (issue 5)"
-    ))
 }
 
 /// The FE parameters of a scene, or the reason they cannot be built.
@@ -80,12 +76,12 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
     let machine = match &s.machine {
         None => FeMachine::Displacement,
         Some(m) => match (m.control, m.stiffness) {
-            (Control::Load, _) if m.k1.is_some() => {
-                return Err(not_built(
-                    "load control through the machine springs k1, k2 (machine.k1/k2)",
-                ))
-            }
-            (Control::Load, _) => FeMachine::Load,
+            // k₁ the support springs in parallel, k₂ the load frame in series (seed eq. 2.4;
+            // docs/scenes.md `[machine]`); the scene checks that both or neither are given
+            (Control::Load, _) => match (m.k1, m.k2) {
+                (Some(k1), Some(k2)) => FeMachine::LoadFrame { k1: k1.0, k2: k2.0 },
+                _ => FeMachine::Load,
+            },
             (Control::Displacement, Some(k)) => FeMachine::Spring { stiffness: k.0 },
             (Control::Displacement, None) => FeMachine::Displacement,
         },
@@ -239,7 +235,7 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         mesh.smallest = m.smallest.map(|l| l.0);
         mesh.grading = m.grading.0 - 1.0;
     }
-    Ok(IndentParams {
+    let mut params = IndentParams {
         indenter,
         material: MaterialParams { elastic, prony },
         kinematics,
@@ -250,7 +246,55 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         start: sched.start.0,
         adhesion,
         machine,
-    })
+    };
+    if let Some(d) = scene.derived.mesh.and_then(|m| m.fine_depth_nm) {
+        // the FE takes the fine zone in units of its own expected contact radius
+        let a = crate::continuum::indent::resolve(&params)
+            .map_err(|e| failed(e.to_string()))?
+            .expected_contact_radius_nm;
+        params.mesh.fine_depth = d / a;
+    }
+    Ok(params)
+}
+
+/// The first hold's relaxation and creep and the first loading branch's slope
+/// ([`crate::continuum::events`]), with the machine's stiffness they are compared with (the
+/// hold slope is −K through a spring, −χ through the transducer; seed 2.6).
+fn segment_figures(p: &IndentParams, r: &IndentResult, values: &mut BTreeMap<String, f64>) {
+    let machine = p.machine.drive(true, 0.0).stiffness();
+    if machine > 0.0 {
+        values.insert("machine_stiffness_nN_per_nm".into(), machine);
+    }
+    let (mut start, mut hold_done, mut load_done) = (0, false, false);
+    // the rows of a segment run from the row ending the previous one to its own end
+    for (seg, snap) in p.schedule.iter().zip(&r.snapshots) {
+        let end = r
+            .rows
+            .iter()
+            .rposition(|row| row.time_s == snap.time_s)
+            .unwrap_or(start);
+        let rows = &r.rows[start..=end.max(start)];
+        match seg {
+            Segment::Hold { .. } if !hold_done => {
+                hold_done = true;
+                if let Some(h) = events::hold_figures(rows) {
+                    values.insert("hold_load_drop_nN".into(), h.load_drop_nN);
+                    values.insert("hold_creep_nm".into(), h.creep_nm);
+                    if let Some(k) = h.slope_nN_per_nm {
+                        values.insert("hold_slope_nN_per_nm".into(), k);
+                    }
+                }
+            }
+            Segment::Load { .. } if !load_done => {
+                load_done = true;
+                if let Some(k) = events::loading_slope(rows) {
+                    values.insert("loading_slope_nN_per_nm".into(), k);
+                }
+            }
+            _ => {}
+        }
+        start = end;
+    }
 }
 
 /// `material.model = "card"` without `material.card`: the scene with the card this run's
@@ -319,6 +363,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         ("assembly_s".to_string(), result.stats.assembly.assembly_s),
         ("solve_s".to_string(), result.stats.assembly.solve_s),
     ]);
+    segment_figures(&params, &result, &mut values);
     let summary = result.summary();
     if let Some(SurfaceLaw::ThermallyShifted(t)) = params.adhesion.as_ref().map(|a| a.law) {
         values.insert("thermal_amplitude_nm".to_string(), t.shift());

@@ -1,8 +1,13 @@
 //! `[machine]`: how the indenter is driven (seed §2.3, §6.2). Under displacement control the
 //! drive moves at a prescribed rate and pushes the indenter through a spring K (seed: 1 µN/nm);
-//! under load control a Hysitron-type transducer applies a force through springs k₁ and k₂
-//! (seed eqs. 2.1–2.7: k₁ = 210 mN/nm, k₂ = 100 nN/nm; during a hold dQ/dδ equals
-//! χ = (1/k₁ + 1/k₂)⁻¹). No section means a rigid displacement drive.
+//! under load control a Hysitron-type transducer applies a force P̂ to a plate held by support
+//! springs k₁ (in parallel with the specimen) that reaches the indenter through the load frame
+//! k₂ (in series): P̂ = k₁h + Q, h = δ + Q/k₂ (seed eqs. 2.1–2.7, the labelling under which
+//! (2.4) ω = k₁(1/χ + 1/K₁) holds; during a hold dQ/dδ = −χ, χ = (1/k₁ + 1/k₂)⁻¹). The seed's
+//! Fig 6.11 caption gives k₁ = 210 mN/nm, k₂ = 100 nN/nm, which under this labelling would let
+//! the support springs carry all but ~10⁻⁶ of the force: its values are read as swapped
+//! (a transducer's springs are ~100 N/m, its frame stiff; docs/scenes.md). No section means a
+//! rigid displacement drive.
 
 use super::check::Checker;
 use super::quantity::Stiffness;
@@ -28,10 +33,12 @@ pub struct Machine {
     /// Spring between drive and indenter under displacement control, nN/nm. Default: rigid.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stiffness: Option<Stiffness>,
-    /// Load control: the first machine spring k₁, nN/nm (given together with `k2`).
+    /// Load control: the transducer's support springs k₁ (plate to frame, in parallel with the
+    /// specimen), nN/nm (given together with `k2`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k1: Option<Stiffness>,
-    /// Load control: the second machine spring k₂, nN/nm (given together with `k1`).
+    /// Load control: the load-frame spring k₂ (plate to indenter, in series with the
+    /// specimen), nN/nm (given together with `k1`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k2: Option<Stiffness>,
 }

@@ -42,6 +42,12 @@ pub struct Mesh {
     /// elements, > 1 (at most 2). Default 1.2.
     #[serde(default = "default_grading")]
     pub grading: Number,
+    /// Depth of the zone of smallest elements under the surface, nm. Default half the
+    /// expected contact radius. With adhesion the smallest size is set by the LJ process zone,
+    /// which lies at the surface: a layer a few process zones deep resolves it, the elements
+    /// growing with `grading` below (docs/validation-continuum.md, hyperfoam_indent.toml).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fine_depth: Option<Length>,
 }
 
 fn default_grading() -> Number {
@@ -55,6 +61,7 @@ impl Default for Mesh {
             depth: None,
             smallest: None,
             grading: default_grading(),
+            fine_depth: None,
         }
     }
 }
@@ -64,6 +71,7 @@ impl Mesh {
         c.positive_opt("mesh.width", self.width);
         c.positive_opt("mesh.depth", self.depth);
         c.positive_opt("mesh.smallest", self.smallest);
+        c.positive_opt("mesh.fine_depth", self.fine_depth);
         if !(self.grading.0 > 1.0 && self.grading.0 <= 2.0) {
             c.bad(
                 "mesh.grading",

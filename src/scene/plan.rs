@@ -168,6 +168,9 @@ pub struct MeshSizes {
     pub smallest_nm: f64,
     /// growth factor
     pub grading: f64,
+    /// depth of the smallest elements' zone, nm (None: the FE default, half the contact radius)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fine_depth_nm: Option<f64>,
 }
 
 /// A validated scene with defaults filled, its derived numbers and its plan.
@@ -469,6 +472,7 @@ fn plan_continuum(
         ),
         smallest_nm: pick(mesh.smallest, smallest_default, "mesh.smallest", c),
         grading: mesh.grading.0,
+        fine_depth_nm: mesh.fine_depth.map(|l| l.0),
     });
     let kin = match solver.kinematics {
         Kinematics::Finite => "finite deformation",
@@ -767,6 +771,9 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
         put("mesh.width", m.width_nm, "nm", "");
         put("mesh.depth", m.depth_nm, "nm", "");
         put("mesh.smallest", m.smallest_nm, "nm", "");
+        if let Some(f) = m.fine_depth_nm {
+            put("mesh.fine_depth", f, "nm", "zone of smallest elements");
+        }
     }
     if let Some(k) = d.machine_series_stiffness {
         put("machine χ", k, "nN/nm", "(1/k1 + 1/k2)⁻¹");
