@@ -75,10 +75,9 @@ def run(mu, nx, size, step, start, depth):
     wall = time.perf_counter() - t0
     forces = np.array(forces)
     turn = len(offsets) // 2
-    # sign: Adhesion's force is the force on the substrate; normalise so that attraction < 0
-    retract = forces[turn:]
-    sign = 1.0 if forces[turn - 1] > 0 else -1.0  # the deepest point is repulsive
-    pull_off = sign * retract.min() if sign > 0 else sign * retract.max()
+    # Adhesion's normal force is the sum of -dV/dgap over the contact area: repulsion > 0,
+    # attraction < 0, turf's convention; the pull-off is the most tensile retraction force
+    pull_off = forces[turn:].min()
     return {
         "peer": "Adhesion/ContactMechanics",
         "mu": mu,
