@@ -11,7 +11,9 @@
 //! path and unconditionally stable (|e^(−x)| ≤ 1 for every Δt). The algorithmic stress is
 //! S = γ S₀(C) + A with the scalars γ = g∞ + Σgᵢaᵢ and the constant tensor
 //! A = Σgᵢ(e^(−xᵢ)Hᵢⁿ − aᵢS₀ⁿ); it is the exact gradient of the incremental potential
-//! Ψ(C) = γψ₀(C) + ½A:C, with tangent 𝔺 = γ𝔺₀. History per point: S₀ⁿ then Hᵢⁿ (4 values each).
+//! Ψ(C) = γψ₀(C) + ½A:(C − I) (the constant −½A:I of a step changes neither), with tangent
+//! 𝔺 = γ𝔺₀. Ψ is what a solution reports as its strain energy: the incremental potential of
+//! the step, of the order of the stored energy but not the free energy of the relaxing solid. History per point: S₀ⁿ then Hᵢⁿ (4 values each).
 
 use super::{contract, Material, MaterialError, Response, Voigt};
 use serde::{Deserialize, Serialize};
@@ -96,8 +98,12 @@ impl<M: Material> Material for Viscoelastic<M> {
         }
         let mut tangent = r0.tangent;
         tangent.iter_mut().flatten().for_each(|v| *v *= gamma);
+        // the incremental potential up to a constant of the step: ½A:(C − I) instead of ½A:C
+        // (same stress and tangent), so the reported energy is of the order of stress × strain
+        // rather than carrying ½tr A, which grows as the stress relaxes during a hold
+        let strain2 = [c[0] - 1.0, c[1] - 1.0, c[2] - 1.0, c[3]];
         Ok(Response {
-            energy: gamma * r0.energy + 0.5 * contract(&a_t, c),
+            energy: gamma * r0.energy + 0.5 * contract(&a_t, &strain2),
             stress,
             tangent,
         })
