@@ -7,19 +7,17 @@
 //! alone (the contact list is sorted and rebuilt from the positions, so its history does not
 //! change a sum). A checkpoint therefore holds no random numbers and no solver state: the
 //! platen's start height H₀, and for every step reached its node positions and what its solve
-//! cost. Positions are stored as the bit patterns of the f64 (`f64::to_bits`): JSON decimals
-//! do not round-trip every double exactly, and the resumed solve must start from the very same
-//! configuration. With them the checkpoint holds the relaxation's report and the text of the
+//! cost. The positions read back bit for bit (serde_json's `float_roundtrip`): the resumed
+//! solve must start from the very same configuration. With them the checkpoint holds the relaxation's report and the text of the
 //! scene's `[turf]` and `[compression]` sections, so that a checkpoint of another scene is
 //! refused rather than continued.
 
 use super::drive::SavedStep;
-use super::solve::Cost;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Format version written into every checkpoint; a different one is refused.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
 
 /// What the drive has done so far.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -30,10 +28,10 @@ pub struct Checkpoint {
     pub scene: String,
     /// the relaxation's report
     pub relaxation: SavedRelaxation,
-    /// platen start height H₀, as f64 bits
-    pub start_height_bits: u64,
+    /// platen start height H₀, nm
+    pub start_height: f64,
     /// steps reached, step 0 (the relaxed turf) first
-    pub steps: Vec<SavedStepBits>,
+    pub steps: Vec<SavedStep>,
 }
 
 /// The relaxation as reported in the summary (its configuration is step 0's).
@@ -45,23 +43,6 @@ pub struct SavedRelaxation {
     pub gradient_evaluations: usize,
     /// wall time, s
     pub seconds: f64,
-}
-
-/// One step in the file: its solve's cost and its positions as f64 bits.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SavedStepBits {
-    /// solver iterations
-    pub iterations: usize,
-    /// energy + gradient evaluations
-    pub gradient_evaluations: usize,
-    /// Hessian assemblies
-    pub hessian_evaluations: usize,
-    /// factorisations
-    pub factorizations: usize,
-    /// wall time, s
-    pub seconds: f64,
-    /// node coordinates, `f64::to_bits`
-    pub x_bits: Vec<u64>,
 }
 
 /// Why a checkpoint could not be used.
@@ -95,32 +76,6 @@ pub enum CheckpointError {
     },
 }
 
-impl SavedStepBits {
-    fn from_step(s: &SavedStep) -> Self {
-        SavedStepBits {
-            iterations: s.cost.iterations,
-            gradient_evaluations: s.cost.gradient_evaluations,
-            hessian_evaluations: s.cost.hessian_evaluations,
-            factorizations: s.cost.factorizations,
-            seconds: s.cost.seconds,
-            x_bits: s.x.iter().map(|v| v.to_bits()).collect(),
-        }
-    }
-
-    fn to_step(&self) -> SavedStep {
-        SavedStep {
-            cost: Cost {
-                iterations: self.iterations,
-                gradient_evaluations: self.gradient_evaluations,
-                hessian_evaluations: self.hessian_evaluations,
-                factorizations: self.factorizations,
-                seconds: self.seconds,
-            },
-            x: self.x_bits.iter().map(|&b| f64::from_bits(b)).collect(),
-        }
-    }
-}
-
 impl Checkpoint {
     /// A checkpoint of `scene` after the relaxation and the steps `steps` from height `h0`.
     pub fn new(scene: &str, relaxation: SavedRelaxation, h0: f64, steps: &[SavedStep]) -> Self {
@@ -128,19 +83,19 @@ impl Checkpoint {
             format: FORMAT,
             scene: scene.to_string(),
             relaxation,
-            start_height_bits: h0.to_bits(),
-            steps: steps.iter().map(SavedStepBits::from_step).collect(),
+            start_height: h0,
+            steps: steps.to_vec(),
         }
     }
 
     /// Platen start height H₀, nm.
     pub fn start_height(&self) -> f64 {
-        f64::from_bits(self.start_height_bits)
+        self.start_height
     }
 
     /// The saved steps, step 0 first.
     pub fn saved_steps(&self) -> Vec<SavedStep> {
-        self.steps.iter().map(SavedStepBits::to_step).collect()
+        self.steps.clone()
     }
 
     /// Write to `path` atomically (a temporary file renamed over the old one), so that an
@@ -200,10 +155,10 @@ impl Checkpoint {
                 reason: "it holds no step".into(),
             });
         }
-        if let Some(s) = c.steps.iter().find(|s| s.x_bits.len() != coordinates) {
+        if let Some(s) = c.steps.iter().find(|s| s.x.len() != coordinates) {
             return Err(mismatch(format!(
                 "a step has {} coordinates, the turf {coordinates}",
-                s.x_bits.len()
+                s.x.len()
             )));
         }
         Ok(Some(c))
@@ -213,6 +168,7 @@ impl Checkpoint {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::discrete::solve::Cost;
 
     /// A checkpoint path in a folder that does not exist yet (`save` creates it).
     fn temp(name: &str) -> std::path::PathBuf {

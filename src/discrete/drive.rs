@@ -50,7 +50,7 @@ pub struct StepRecord {
 }
 
 /// A step reached: its configuration and what its solve cost.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SavedStep {
     /// what the solve cost (zero at step 0)
     pub cost: Cost,

@@ -39,7 +39,7 @@ impl EnergyTerm for Sum<'_> {
 }
 
 /// What a solve cost.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Cost {
     /// solver iterations (Newton steps, FIRE steps)
     pub iterations: usize,

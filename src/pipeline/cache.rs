@@ -22,7 +22,6 @@ use crate::report::{write_atomic, ReportError};
 use crate::scene::homogenize::Curve;
 use crate::scene::{ResolvedScene, Stage};
 use serde_json::{json, Value};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The cache's folder under the output folder.
@@ -128,10 +127,8 @@ pub fn entry_name(stage: Stage, key: &Key) -> String {
 struct Entry {
     key: String,
     inputs: String,
+    /// the record; its values read back exactly (serde_json's `float_roundtrip`)
     record: StageRecord,
-    /// the record's values as f64 bit patterns: serde_json's default float parsing is not
-    /// exact to the last bit, so the values are restored from these
-    value_bits: BTreeMap<String, u64>,
 }
 
 fn copy(from: &Path, to: &Path) -> Result<(), ReportError> {
@@ -162,12 +159,6 @@ pub fn reuse(
         return Ok(None);
     }
     let mut record = cached.record;
-    for (name, v) in record.values.iter_mut() {
-        match cached.value_bits.get(name) {
-            Some(&bits) => *v = f64::from_bits(bits),
-            None => return Ok(None),
-        }
-    }
     let files = entry.join(FILES);
     if !record.files.iter().all(|f| files.join(f).is_file()) {
         return Ok(None);
@@ -202,11 +193,6 @@ pub fn store(root: &Path, dir: &Path, key: &Key, record: &StageRecord) -> Result
         key: key.hex.clone(),
         inputs: key.inputs.clone(),
         record: record.clone(),
-        value_bits: record
-            .values
-            .iter()
-            .map(|(k, v)| (k.clone(), v.to_bits()))
-            .collect(),
     };
     crate::report::write_json(&tmp.join(RECORD), &entry_json)?;
     if entry.exists() {
