@@ -61,20 +61,7 @@ fn rheology(m: &Machine, s: &Specimen) -> Rheology {
 
 /// Load to 10 µN in 5 s, hold 10 s, unload in 5 s; `per` samples per segment.
 fn synthetic(r: &Rheology, per: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let schedule = [
-        Segment {
-            duration: 5.0,
-            end_load: 1e4,
-        },
-        Segment {
-            duration: 10.0,
-            end_load: 1e4,
-        },
-        Segment {
-            duration: 5.0,
-            end_load: 0.0,
-        },
-    ];
+    let schedule = Segment::load_hold_unload(1e4, 5.0, 10.0, 5.0);
     let s = r.simulate(&schedule, per).expect("valid constants");
     (
         s.iter().map(|x| x.t).collect(),

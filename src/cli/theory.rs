@@ -542,20 +542,12 @@ fn indentation_law(a: &IndentationLawArgs) -> anyhow::Result<Value> {
     };
     let peak = quantity("peak", &a.peak, Dimension::Force)?;
     let time = |flag: &str, t: &str| quantity(flag, t, Dimension::Time);
-    let schedule = [
-        Segment {
-            duration: time("load-time", &a.load_time)?,
-            end_load: peak,
-        },
-        Segment {
-            duration: time("hold-time", &a.hold_time)?,
-            end_load: peak,
-        },
-        Segment {
-            duration: time("unload-time", &a.unload_time)?,
-            end_load: 0.0,
-        },
-    ];
+    let schedule = Segment::load_hold_unload(
+        peak,
+        time("load-time", &a.load_time)?,
+        time("hold-time", &a.hold_time)?,
+        time("unload-time", &a.unload_time)?,
+    );
     let samples = r.simulate(&schedule, a.samples)?;
     let col =
         |f: fn(&theory::indentation_law::Sample) -> f64| samples.iter().map(f).collect::<Vec<_>>();

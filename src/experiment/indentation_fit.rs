@@ -581,20 +581,7 @@ mod tests {
     };
 
     fn schedule() -> [Segment; 3] {
-        [
-            Segment {
-                duration: 5.0,
-                end_load: 1e4,
-            },
-            Segment {
-                duration: 10.0,
-                end_load: 1e4,
-            },
-            Segment {
-                duration: 5.0,
-                end_load: 0.0,
-            },
-        ]
+        Segment::load_hold_unload(1e4, 5.0, 10.0, 5.0)
     }
 
     fn rheology(m: &Machine, s: &Specimen) -> Rheology {

@@ -48,6 +48,27 @@ pub struct Segment {
     pub end_load: f64,
 }
 
+impl Segment {
+    /// The usual test: load to `peak` (nN) over `load` s, hold it for `hold` s, unload to zero
+    /// over `unload` s.
+    pub fn load_hold_unload(peak: f64, load: f64, hold: f64, unload: f64) -> [Segment; 3] {
+        [
+            Segment {
+                duration: load,
+                end_load: peak,
+            },
+            Segment {
+                duration: hold,
+                end_load: peak,
+            },
+            Segment {
+                duration: unload,
+                end_load: 0.0,
+            },
+        ]
+    }
+}
+
 /// The state at one instant.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Sample {
@@ -164,20 +185,7 @@ mod tests {
     #[test]
     fn machine_equilibrium_holds_at_every_sample() {
         let r = rheo();
-        let sched = [
-            Segment {
-                duration: 5.0,
-                end_load: 1e4,
-            },
-            Segment {
-                duration: 10.0,
-                end_load: 1e4,
-            },
-            Segment {
-                duration: 5.0,
-                end_load: 0.0,
-            },
-        ];
+        let sched = Segment::load_hold_unload(1e4, 5.0, 10.0, 5.0);
         for s in r.simulate(&sched, 20).unwrap() {
             // P = k₁h + Q and Q = χ(P/k₁ − δ), to round-off of 1e4 nN
             assert!((r.machine_k1 * s.h + s.q - s.p).abs() < 1e-9 * 1e4);
