@@ -15,8 +15,10 @@
 //! - [`scene`]: the scene file (TOML), its validation and the resolved plan.
 //! - [`pipeline`]: a scene's stages run in order.
 //! - [`report`]: CSV, JSON, plots and VTK, every file written atomically.
+//! - [`bench`]: the speed–accuracy ladder and refinement sweeps of `turf bench`.
 #![warn(missing_docs)]
 
+pub mod bench;
 pub mod continuum;
 pub mod discrete;
 pub mod experiment;

@@ -25,6 +25,8 @@ enum Command {
     Homogenize(cli::homogenize::HomogenizeArgs),
     /// Fit K1, K2, eta of the seed's indentation law (2.1)-(2.7) to a force-controlled record.
     FitIndentation(cli::fit_indentation::FitIndentationArgs),
+    /// The speed–accuracy ladder: each fidelity's answer, error and cost, and refinement sweeps.
+    Bench(cli::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -35,6 +37,7 @@ fn main() -> ExitCode {
         Command::Theory(a) => cli::theory::run(a),
         Command::Homogenize(a) => cli::homogenize::run(a),
         Command::FitIndentation(a) => cli::fit_indentation::run(a),
+        Command::Bench(a) => cli::bench::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -193,3 +193,57 @@ fn unloading_a_large_hertz_block_to_zero_depth_converges() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn bench_quick_reports_every_fidelity_with_its_error_and_cost() {
+    let dir = temp("bench");
+    let out = turf(&["bench", "--quick", "--json", "--out", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let rows = v["rows"].as_array().unwrap();
+    let row = |problem: &str, fidelity: &str| {
+        rows.iter()
+            .find(|r| r["problem"].as_str().unwrap().contains(problem) && r["fidelity"] == fidelity)
+            .unwrap_or_else(|| panic!("no row {problem} / {fidelity}"))
+    };
+    let err = |r: &serde_json::Value| r["rel_error"].as_f64().expect("an error");
+    // the half-space against its own extrapolation: its error estimate is ~1e-4
+    assert!(err(row("μ = 0.5", "halfspace")) < 1e-3);
+    // the FE at μ = 0.5 on its default mesh: within 0.4 % of the half-space
+    // (docs/validation-continuum.md)
+    assert!(err(row("μ = 0.5", "FE small strain")) < 4e-3);
+    // issue 7: 1 % at 50 segments
+    assert!(err(row("cantilever", "discrete (elastica chain)")) < 1e-2);
+    // Maugis–Dugdale is another law: a few per cent off at μ = 2, not zero
+    let md = err(row("μ = 2", "theory (Maugis–Dugdale)"));
+    assert!(md > 1e-3 && md < 0.1, "{md}");
+    for r in rows {
+        assert!(r["cost"]["wall_s"].as_f64().unwrap() >= 0.0);
+    }
+    // refinement sweeps of second-order methods: the error falls by ≥ 3 per doubling
+    let sweeps = v["sweeps"].as_array().unwrap();
+    for name in ["fe_time_step", "rod_segments"] {
+        let s = sweeps.iter().find(|s| s["name"] == name).unwrap();
+        let e: Vec<f64> = s["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["rel_error"].as_f64().unwrap())
+            .collect();
+        assert!(e.len() >= 3, "{name}: {e:?}");
+        for w in e.windows(2).take(2) {
+            assert!(w[0] / w[1] > 3.0, "{name}: {e:?}");
+        }
+    }
+    for f in [
+        "bench.json",
+        "bench.md",
+        "plots/ladder.svg",
+        "plots/sweep_rod_segments.png",
+    ] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let md = std::fs::read_to_string(dir.join("bench.md")).unwrap();
+    assert!(!md.contains("NaN") && md.contains("| cantilever"));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1,5 +1,6 @@
 //! Subcommand handlers: each turns parsed arguments into library calls and prints the result.
 
+pub mod bench;
 pub mod fit_indentation;
 pub mod homogenize;
 pub mod run;

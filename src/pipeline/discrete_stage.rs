@@ -52,7 +52,7 @@ struct RelaxReport {
 }
 
 /// File names of the branches handed to the homogenize stage.
-pub(super) const LOADING_CSV: &str = "stress_strain_loading.csv";
+pub const LOADING_CSV: &str = "stress_strain_loading.csv";
 /// See [`LOADING_CSV`].
 pub(super) const UNLOADING_CSV: &str = "stress_strain_unloading.csv";
 

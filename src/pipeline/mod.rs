@@ -26,6 +26,7 @@
 pub mod cache;
 mod continuum_stage;
 mod discrete_stage;
+pub use discrete_stage::LOADING_CSV;
 mod halfspace_stage;
 mod homogenize_stage;
 mod theory_stage;
@@ -277,7 +278,7 @@ pub fn run_with(
             .collect()
     };
     let total: usize = points.iter().map(|(_, s)| s.plan.stages.len()).sum();
-    let bar = opts.progress.then(|| progress_bar(total as u64));
+    let bar = opts.progress.then(|| progress_bar(total as u64, "stages"));
     let mut failure = None;
     'points: for (i, (value, scene)) in points.iter().enumerate() {
         let (dir, rel) = match value {
@@ -425,11 +426,12 @@ fn run_one(
     })
 }
 
-fn progress_bar(len: u64) -> indicatif::ProgressBar {
+/// A progress bar over `len` steps counted in `unit` (stages, tasks).
+pub fn progress_bar(len: u64, unit: &str) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::new(len);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} stages  {msg}",
-    ) {
+    if let Ok(style) = indicatif::ProgressStyle::with_template(&format!(
+        "{{spinner}} [{{elapsed_precise}}] {{bar:30}} {{pos}}/{{len}} {unit}  {{msg}}"
+    )) {
         bar.set_style(style);
     }
     bar.enable_steady_tick(std::time::Duration::from_millis(200));

@@ -2,6 +2,7 @@
 //! `assets/fonts/`), so no system font library is needed.
 
 use super::{write_atomic, ReportError};
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
@@ -81,6 +82,8 @@ pub struct Plot {
     pub y_label: String,
     /// the curves
     pub series: Vec<Series>,
+    /// logarithmic axes (points with a non-positive coordinate are left out)
+    pub log_log: bool,
 }
 
 impl Plot {
@@ -91,7 +94,18 @@ impl Plot {
             x_label: x_label.into(),
             y_label: y_label.into(),
             series: Vec::new(),
+            log_log: false,
         }
+    }
+
+    /// Both axes logarithmic (error against cost).
+    pub fn log_log(mut self) -> Self {
+        self.log_log = true;
+        self
+    }
+
+    fn shown(&self, x: f64, y: f64) -> bool {
+        x.is_finite() && y.is_finite() && (!self.log_log || (x > 0.0 && y > 0.0))
     }
 
     /// Add a curve.
@@ -129,15 +143,23 @@ impl Plot {
         let mut yr = (f64::INFINITY, f64::NEG_INFINITY);
         for s in &self.series {
             for (&x, &y) in s.x.iter().zip(&s.y) {
-                if x.is_finite() && y.is_finite() {
+                if self.shown(x, y) {
                     xr = (xr.0.min(x), xr.1.max(x));
                     yr = (yr.0.min(y), yr.1.max(y));
                 }
             }
         }
+        let log = self.log_log;
         let pad = |r: (f64, f64)| {
             if !r.0.is_finite() {
-                return (0.0, 1.0);
+                return if log { (0.1, 10.0) } else { (0.0, 1.0) };
+            }
+            if log {
+                // a fifth of a decade each side, at least a decade in all
+                let (lo, hi) = (r.0.log10() - 0.2, r.1.log10() + 0.2);
+                let mid = 0.5 * (lo + hi);
+                let half = (0.5 * (hi - lo)).max(0.5);
+                return (10f64.powf(mid - half), 10f64.powf(mid + half));
             }
             let span = (r.1 - r.0).max(1e-12 * r.0.abs().max(1.0));
             (r.0 - 0.04 * span, r.1 + 0.04 * span)
@@ -156,17 +178,43 @@ impl Plot {
         };
         root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
         let ((x0, x1), (y0, y1)) = self.bounds();
-        let mut chart = ChartBuilder::on(root)
+        let mut builder = ChartBuilder::on(root);
+        builder
             .caption(&self.title, ("sans-serif", 22))
             .margin(16)
             .x_label_area_size(48)
-            .y_label_area_size(72)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| err(e.to_string()))?;
+            .y_label_area_size(72);
+        if self.log_log {
+            let chart = builder
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .map_err(|e| err(e.to_string()))?;
+            self.draw_series(chart, &err)?;
+        } else {
+            let chart = builder
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(|e| err(e.to_string()))?;
+            self.draw_series(chart, &err)?;
+        }
+        root.present().map_err(|e| err(e.to_string()))
+    }
+
+    /// The mesh, the curves and the legend, on linear or logarithmic axes.
+    fn draw_series<'a, DB, X, Y>(
+        &self,
+        mut chart: ChartContext<'a, DB, Cartesian2d<X, Y>>,
+        err: &dyn Fn(String) -> ReportError,
+    ) -> Result<(), ReportError>
+    where
+        DB: DrawingBackend + 'a,
+        X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
         chart
             .configure_mesh()
             .x_desc(&self.x_label)
             .y_desc(&self.y_label)
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(|e| err(e.to_string()))?;
@@ -175,7 +223,7 @@ impl Plot {
             let pts: Vec<(f64, f64)> =
                 s.x.iter()
                     .zip(&s.y)
-                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .filter(|(x, y)| self.shown(**x, **y))
                     .map(|(&x, &y)| (x, y))
                     .collect();
             let anno = match s.style {
@@ -202,12 +250,53 @@ impl Plot {
                 .draw()
                 .map_err(|e| err(e.to_string()))?;
         }
-        root.present().map_err(|e| err(e.to_string()))
+        Ok(())
     }
+}
+
+/// An axis label with three significant digits and no floating-point tail (0.30000000000000004
+/// is "0.3"); scientific notation outside 1e-4 … 1e5.
+fn tick(v: &f64) -> String {
+    let v = *v;
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let trim = |s: String| {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    let exponent = v.abs().log10().floor();
+    if !(-4.0..5.0).contains(&exponent) {
+        let s = format!("{v:.2e}");
+        return match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", trim(m.to_string())),
+            None => s,
+        };
+    }
+    let decimals = (2.0 - exponent).max(0.0) as usize;
+    trim(format!("{v:.decimals$}"))
 }
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn ticks_have_no_floating_point_tail() {
+        for (v, s) in [
+            (0.30000000000000004, "0.3"),
+            (0.009000000001, "0.009"),
+            (1e-5, "1e-5"),
+            (2.5e6, "2.5e6"),
+            (1025.0, "1025"),
+            (-0.125, "-0.125"),
+            (0.0, "0"),
+        ] {
+            assert_eq!(tick(&v), s);
+        }
+    }
+
     use super::*;
 
     #[test]

@@ -1,0 +1,357 @@
+//! The ladder of `turf bench`: one question per block, answered by every fidelity that can.
+//!
+//! - LJ 9-3 pull-off of a sphere at μ = 0.5 and 2 (R/z₀ = 1000): Maugis–Dugdale (seed 3.10–3.13,
+//!   λ = 1.16 μ), the half-space solver, the FE at small and at finite strain. Reference: the
+//!   half-space pull-off extrapolated over its three grids (docs/validation-halfspace.md).
+//! - Hertz (seed 3.1): a 1 µm sphere 10 nm into a linear block (E = 0.7 GPa, ν = 0.3), the FE at
+//!   both kinematics against P = (4/3)E*R^½δ^(3/2).
+//! - A 50-segment tube as a cantilever under a tip load PL²/K = 2 (Bisshopp–Drucker elastica).
+//! - The turf (full ladder only): the quickstart scene's 9 tubes compressed discretely against
+//!   the hyperfoam card homogenised from them, the card's error against the discrete curve and
+//!   the speed-up, and the card's FE indentation cost.
+
+use super::{timed, Cost, Row};
+use crate::continuum::adhesion::{normalised_pull_off, tabor_sphere};
+use crate::continuum::element::Kinematics;
+use crate::continuum::{run_indent, FeError, IndentParams, IndentResult, Segment};
+use crate::discrete::rod::RodStiffness;
+use crate::discrete::rod_problems::RodProblem;
+use crate::discrete::solve_newton::NewtonParams;
+use crate::halfspace::{pull_off, HalfspaceParams, Problem};
+use crate::laws::LjKind;
+use crate::theory::{tabor::lambda_per_mu, Control, Model};
+use std::path::Path;
+
+/// Bisshopp–Drucker tip deflection δ_v/L at PL²/K = 2, to five decimals (Mattiasson, Int. J.
+/// Numer. Meth. Eng. 17, 145, 1981; checked by shooting in tests/discrete_rod_cantilever.rs).
+const CANTILEVER_ALPHA_2: f64 = 0.49346;
+/// R/z₀ of the pull-off problems (the Fig 4.6 problem of docs/validation-continuum.md).
+const R_OVER_Z0: f64 = 1000.0;
+
+/// FE run that keeps what a stopped run had.
+fn indent(p: &IndentParams) -> Result<IndentResult, String> {
+    match run_indent(p, &mut |_| {}) {
+        Ok(r) => Ok(r),
+        Err(FeError::Stopped(r)) => Ok(*r),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+fn kin_name(k: Kinematics) -> &'static str {
+    match k {
+        Kinematics::Small => "FE small strain",
+        Kinematics::Finite => "FE finite strain",
+    }
+}
+
+/// Pull-off at Tabor μ by every fidelity; the FE only when `fe`.
+pub fn pull_off_rows(mu: f64, fe: bool) -> Vec<Row> {
+    let problem = format!("pull-off P/(πγR), LJ 9-3 sphere, μ = {mu}");
+    let lambda = lambda_per_mu(LjKind::Lj93) * mu;
+    let (md, c_md) = timed(|| Model::Maugis { lambda }.pull_off(Control::Load));
+    let md = md.map_err(|e| e.to_string());
+    let (hs, c_hs) = timed(|| {
+        Problem::scaled(mu, LjKind::Lj93).and_then(|p| pull_off(&p, &HalfspaceParams::default()))
+    });
+    let (reference, source, hs_row) = match &hs {
+        Ok(h) => (h.extrapolated, "half-space, extrapolated", Ok(h.normalized)),
+        Err(e) => (
+            md.clone().unwrap_or(f64::NAN),
+            "Maugis–Dugdale (the half-space failed)",
+            Err(e.to_string()),
+        ),
+    };
+    let hs_note = hs.as_ref().map_or(String::new(), |h| {
+        format!(
+            "finest of 3 grids; its own error estimate {:.1e}",
+            h.error_estimate
+        )
+    });
+    let mut rows = vec![
+        Row::new(
+            &problem,
+            "theory (Maugis–Dugdale)",
+            md,
+            (reference, source),
+            c_md,
+            format!("λ = {lambda:.3}; the error is the Dugdale law's, not discretisation"),
+        ),
+        Row::new(
+            &problem,
+            "halfspace",
+            hs_row,
+            (reference, source),
+            c_hs,
+            hs_note,
+        ),
+    ];
+    if fe {
+        for kin in [Kinematics::Small, Kinematics::Finite] {
+            let p = tabor_sphere(mu, R_OVER_Z0, LjKind::Lj93, kin);
+            let (r, cost) = timed(|| indent(&p));
+            let (answer, note) = match r {
+                Ok(r) => {
+                    let s = r.summary();
+                    (
+                        normalised_pull_off(&r).ok_or_else(|| "no pull-off reached".to_string()),
+                        format!(
+                            "R/z₀ = {R_OVER_Z0}, {} elements, damping {:.2} % of the strain energy{}",
+                            r.mesh_report.elements,
+                            100.0 * s.damping_dissipated_aJ / s.max_strain_energy_aJ,
+                            if kin == Kinematics::Finite {
+                                "; the error includes the physical finite-strain difference"
+                            } else {
+                                ""
+                            }
+                        ),
+                    )
+                }
+                Err(e) => (Err(e), String::new()),
+            };
+            rows.push(Row::new(
+                &problem,
+                kin_name(kin),
+                answer,
+                (reference, source),
+                cost,
+                note,
+            ));
+        }
+    }
+    rows
+}
+
+/// Hertz load at δ = 10 nm by the FE at both kinematics on the default mesh.
+pub fn hertz_rows() -> Vec<Row> {
+    let (radius, depth, youngs, poisson): (f64, f64, f64, f64) = (1000.0, 10.0, 0.7, 0.3);
+    let e_star = youngs / (1.0 - poisson * poisson);
+    let reference = 4.0 / 3.0 * e_star * radius.sqrt() * depth.powf(1.5);
+    let problem = "Hertz load (nN), R = 1 µm, δ = 10 nm, E = 0.7 GPa, ν = 0.3";
+    let source = "Hertz (4/3)E*R^½δ^(3/2)";
+    [Kinematics::Small, Kinematics::Finite]
+        .into_iter()
+        .map(|kin| {
+            let mut p = IndentParams::hertz_example();
+            p.kinematics = kin;
+            p.schedule = vec![Segment::Load {
+                to: depth,
+                rate: 10.0,
+            }];
+            p.solver.increments = 5;
+            let (r, cost) = timed(|| indent(&p));
+            let (answer, note) = match r {
+                Ok(r) => match r.rows.last() {
+                    Some(row) if (row.depth_nm - depth).abs() < 1e-9 => (
+                        Ok(row.load_nN),
+                        format!(
+                            "{} elements{}",
+                            r.mesh_report.elements,
+                            if kin == Kinematics::Finite {
+                                "; Hertz is small-strain: ≈ −0.3 a/R of the error is physical"
+                            } else {
+                                ""
+                            }
+                        ),
+                    ),
+                    _ => (Err("stopped before δ = 10 nm".to_string()), String::new()),
+                },
+                Err(e) => (Err(e), String::new()),
+            };
+            Row::new(
+                problem,
+                kin_name(kin),
+                answer,
+                (reference, source),
+                cost,
+                note,
+            )
+        })
+        .collect()
+}
+
+/// Tip deflection δ_v/L of a clamped tube of `segments` segments at PL²/K = 2, reached by load
+/// continuation through PL²/K = 1, with the Newton iterations taken.
+pub fn cantilever_deflection(segments: usize) -> Result<(f64, usize), String> {
+    let length = 7000.0;
+    let stiff = RodStiffness::turf_tube();
+    let mut problem =
+        RodProblem::cantilever(segments, length, stiff, [0.0; 3]).map_err(|e| e.to_string())?;
+    let tip = problem.tip();
+    let mut iterations = 0;
+    for alpha in [1.0, 2.0] {
+        let p = alpha * stiff.bending / (length * length);
+        problem.loads = crate::discrete::constraints::PointLoads::new();
+        problem.loads.add(tip, [0.0, -p, 0.0]);
+        let info = problem
+            .solve_newton(&NewtonParams::default())
+            .map_err(|e| e.to_string())?;
+        iterations += info.cost.iterations;
+    }
+    Ok((-problem.x[3 * tip + 1] / length, iterations))
+}
+
+/// The large-deflection cantilever by the discrete engine (50 segments).
+pub fn cantilever_row() -> Row {
+    let (r, cost) = timed(|| cantilever_deflection(50));
+    let note = r.as_ref().map_or(String::new(), |(_, it)| {
+        format!("50 segments, {it} Newton iterations")
+    });
+    Row::new(
+        "cantilever tip deflection δ_v/L at PL²/K = 2",
+        "discrete (elastica chain)",
+        r.map(|(d, _)| d),
+        (CANTILEVER_ALPHA_2, "Bisshopp–Drucker elastica"),
+        cost,
+        note,
+    )
+}
+
+/// The quickstart chain: discrete compression of 9 tubes, the card fitted to it, the card's FE
+/// indentation. Rows: the discrete stress at the largest strain (the reference), the card's
+/// stress there (its error and speed-up), the FE indentation of the card (its cost).
+pub fn turf_rows(out: &Path) -> Vec<Row> {
+    let problem = "turf compression: nominal stress at the largest strain (GPa)";
+    match quickstart(out) {
+        Ok(q) => {
+            let reference = (q.discrete_stress, "discrete tubes (9 × 2 µm)");
+            let speedup = q.discrete_cost.wall_s / q.card_cost.wall_s.max(1e-9);
+            vec![
+                Row::new(
+                    problem,
+                    "discrete (9 tubes, Newton)",
+                    Ok(q.discrete_stress),
+                    reference,
+                    q.discrete_cost,
+                    format!("ε = {:.3}; wall of the discrete stage", q.strain),
+                ),
+                Row::new(
+                    problem,
+                    "homogenised card (hyperfoam)",
+                    Ok(q.card_stress),
+                    reference,
+                    q.card_cost,
+                    format!(
+                        "RMS over the loading curve {:.2e} of its largest stress; card evaluation \
+                         {speedup:.1e}× faster than the tubes (fit: {:.2} s)",
+                        q.card_rms, q.fit_s
+                    ),
+                ),
+                Row::new(
+                    "turf indentation: peak load of the quickstart test (nN)",
+                    "FE on the card (finite strain, adhesion, Prony)",
+                    Ok(q.fe_peak),
+                    (f64::NAN, "none"),
+                    q.fe_cost,
+                    "discrete sphere indentation of the tubes is not built: no error to report"
+                        .into(),
+                ),
+            ]
+        }
+        Err(e) => vec![Row::new(
+            problem,
+            "quickstart chain",
+            Err(e),
+            (f64::NAN, "—"),
+            Cost {
+                wall_s: 0.0,
+                cpu_s: None,
+            },
+            String::new(),
+        )],
+    }
+}
+
+struct Quickstart {
+    strain: f64,
+    discrete_stress: f64,
+    discrete_cost: Cost,
+    card_stress: f64,
+    card_rms: f64,
+    card_cost: Cost,
+    fit_s: f64,
+    fe_peak: f64,
+    fe_cost: Cost,
+}
+
+fn quickstart(out: &Path) -> Result<Quickstart, String> {
+    use crate::homogenize::hyperfoam::Mode;
+    use crate::pipeline::{self, RunOptions};
+    use crate::scene::Stage;
+    let dir = out.join("quickstart");
+    // a cached stage would cost nothing: start from an empty folder
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    let file = Path::new("scenes/quickstart.toml");
+    let loaded = crate::scene::load_str(include_str!("../../scenes/quickstart.toml"), file, &[])
+        .map_err(|e| e.to_string())?;
+    let opts = RunOptions {
+        out: Some(dir.clone()),
+        progress: false,
+        resume: false,
+    };
+    let (report, total) = timed(|| pipeline::run(&loaded, &opts));
+    let report = report.map_err(|e| e.to_string())?;
+    if let Some(f) = report.failure {
+        return Err(f.to_string());
+    }
+    let stage = |s: Stage| {
+        report
+            .summary
+            .stages
+            .iter()
+            .find(|r| r.stage == s)
+            .ok_or_else(|| format!("no {s:?} stage in the quickstart summary"))
+    };
+    // the stage records carry wall time only; the CPU of the whole run is split by wall share
+    let share = |wall: f64| Cost {
+        wall_s: wall,
+        cpu_s: total.cpu_s.map(|c| c * wall / total.wall_s.max(1e-9)),
+    };
+    let discrete_cost = share(stage(Stage::Discrete)?.wall_time_s);
+    let fit_s = stage(Stage::Homogenize)?.wall_time_s;
+    let fe = stage(Stage::Continuum)?;
+    let fe_peak = *fe
+        .values
+        .get("max_load_nN")
+        .ok_or("the continuum stage reported no max_load_nN")?;
+    let curve = crate::homogenize::read_curve(&dir.join(pipeline::LOADING_CSV))
+        .map_err(|e| e.to_string())?;
+    let card =
+        crate::homogenize::read_card(&dir.join("material.json")).map_err(|e| e.to_string())?;
+    let (card_stress, card_cost) = timed(|| {
+        curve
+            .strain
+            .iter()
+            .map(|&e| {
+                card.hyperfoam
+                    .drive(Mode::Uniaxial, 1.0 - e)
+                    .map(|s| -s.nominal[0])
+            })
+            .collect::<Result<Vec<f64>, _>>()
+    });
+    let card_stress = card_stress.map_err(|e| e.to_string())?;
+    let n = curve.stress.len();
+    let last = *curve.stress.last().ok_or("empty discrete curve")?;
+    let scale = curve.stress.iter().fold(0.0f64, |m, s| m.max(s.abs()));
+    let rms = (curve
+        .stress
+        .iter()
+        .zip(&card_stress)
+        .map(|(d, c)| (d - c).powi(2))
+        .sum::<f64>()
+        / n as f64)
+        .sqrt()
+        / scale.max(f64::MIN_POSITIVE);
+    Ok(Quickstart {
+        strain: *curve.strain.last().unwrap_or(&0.0),
+        discrete_stress: last,
+        discrete_cost,
+        card_stress: card_stress[n - 1],
+        card_rms: rms,
+        card_cost,
+        fit_s,
+        fe_peak,
+        fe_cost: share(fe.wall_time_s),
+    })
+}
