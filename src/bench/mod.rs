@@ -22,6 +22,7 @@ pub struct Cost {
     /// wall-clock time, s
     pub wall_s: f64,
     /// user + system CPU time of the process, s
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub cpu_s: Option<f64>,
 }
 
@@ -58,12 +59,15 @@ pub struct Row {
     /// who answered: "theory (Maugis–Dugdale)", "halfspace", "FE small strain", …
     pub fidelity: String,
     /// the answer (`None`: this fidelity failed, see `note`)
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub answer: Option<f64>,
     /// the reference it is judged against (`None`: there is none yet)
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub reference: Option<f64>,
     /// where the reference comes from
     pub reference_source: String,
     /// |answer/reference − 1|
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub rel_error: Option<f64>,
     /// what it cost
     pub cost: Cost,
@@ -106,6 +110,7 @@ pub struct SweepPoint {
     /// the swept setting (cells per zone, elements per radius, segments, increments)
     pub setting: f64,
     /// degrees of freedom or elements, where meaningful
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub size: Option<usize>,
     /// the answer at this setting
     pub answer: f64,
@@ -305,8 +310,8 @@ pub fn write(report: &BenchReport, dir: &Path) -> Result<(), ReportError> {
         path: plots.display().to_string(),
         source,
     })?;
-    write_json(&dir.join("bench.json"), report)?;
     write_atomic(&dir.join("bench.md"), report.to_markdown().as_bytes())?;
+    write_json(&dir.join("bench.json"), report)?;
     let mut ladder = Plot::new(
         "turf bench: error against cost",
         "wall time (s)",
@@ -380,16 +385,24 @@ mod tests {
         assert!(r.answer.is_none() && r.rel_error.is_none() && r.note.contains("diverged"));
         let r = Row::new("p", "f", Ok(f64::NAN), (2.0, "x"), cost, "".into());
         assert!(r.answer.is_none() && r.note.contains("non-finite"));
+        let no_reference = Row::new("p", "f", Ok(1.0), (f64::NAN, "none"), cost, "".into());
+        assert!(no_reference.reference.is_none() && no_reference.rel_error.is_none());
         let r = Row::new("p", "f", Ok(2.02), (2.0, "x"), cost, "".into());
         assert!((r.rel_error.unwrap() - 0.01).abs() < 1e-12);
-        let md = BenchReport {
+        let report = BenchReport {
             turf_version: "0",
             threads: 1,
             quick: true,
-            rows: vec![r],
+            rows: vec![r, no_reference],
             sweeps: vec![],
-        }
-        .to_markdown();
+        };
+        let md = report.to_markdown();
         assert!(md.contains("| p | f | 2.020000 |") && !md.contains("NaN"));
+        // absent numbers are left out of the JSON, which refuses nulls
+        let dir = std::env::temp_dir().join(format!("turf-bench-{}", std::process::id()));
+        write(&report, &dir).unwrap();
+        let json = std::fs::read_to_string(dir.join("bench.json")).unwrap();
+        assert!(!json.contains("null"));
+        std::fs::remove_dir_all(dir).ok();
     }
 }
