@@ -308,6 +308,30 @@ impl IndentParams {
     }
 }
 
+/// Bisection steps for [`spring_depth`]: the bracket [0, Δ] shrinks to 2⁻⁶⁰ of Δ.
+const SPRING_DEPTH_BISECTIONS: usize = 60;
+
+/// The Hertz depth δ (nm) at which a spring K (nN/nm) driven to Δ (nm) balances the specimen:
+/// K(Δ − δ) = (4/3)E*R^(1/2)δ^(3/2) (δ = Δ when Δ ≤ 0). K → ∞ gives δ = Δ, K → 0 the Hertz
+/// depth of the load KΔ.
+fn spring_depth(drive: f64, stiffness: f64, e_star: f64, radius: f64) -> f64 {
+    if !(drive > 0.0) {
+        return drive;
+    }
+    let excess =
+        |d: f64| stiffness * (drive - d) - 4.0 / 3.0 * e_star * radius.sqrt() * d.powf(1.5);
+    let (mut lo, mut hi) = (0.0, drive);
+    for _ in 0..SPRING_DEPTH_BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if excess(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
 /// The sizes derived from the parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[allow(non_snake_case)] // field names carry their units, as the output columns do
@@ -387,10 +411,15 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     }
     let (e, nu) = p.material.elastic.initial_moduli();
     let e_star = e / (1.0 - nu * nu);
+    let r = p.indenter.radius();
     if max_load > 0.0 {
         // under load control: the Hertz depth of the largest load sizes the mesh
-        let r = p.indenter.radius();
         max_depth = max_depth.max((0.75 * max_load / (e_star * r.sqrt())).powf(2.0 / 3.0));
+    }
+    if let Machine::Spring { stiffness } = p.machine {
+        // the schedule drives Δ, not δ: a soft spring (K ≪ the contact stiffness) holds the
+        // indenter far above the drive, and a mesh sized for δ = Δ would be absurdly coarse
+        max_depth = spring_depth(max_depth, stiffness, e_star, r);
     }
     if !(max_depth > 0.0) && p.adhesion.is_none() {
         return Err(FeError::Params(
@@ -752,7 +781,10 @@ pub fn run_indent(
                 drive: mode,
                 force_floor,
             };
-            match newton::solve(&mut sys, &mut x, &p.solver.newton) {
+            let solved = newton::solve(&mut sys, &mut x, &p.solver.newton)
+                .map_err(|e| e.to_string())
+                .and_then(|info| p.indenter.check_depth(x[ndof]).map(|()| info));
+            match solved {
                 Ok(info) => {
                     let ev = sys.evaluation(&x, false)?;
                     let depth = x[ndof];

@@ -122,6 +122,23 @@ impl Indenter {
         Ok(())
     }
 
+    /// Refuse a depth the indenter's shape does not represent: the sphere has no shank, so
+    /// beyond δ = R its modelled surface no longer covers the contact (past δ ≈ 2R the specimen
+    /// would lie above it, out of contact: a false equilibrium). A Newton iterate gets there
+    /// when nothing holds the indenter before contact (a soft spring, K ≪ the contact
+    /// stiffness, driven far in one increment); the driver then cuts the increment back.
+    pub fn check_depth(&self, depth: f64) -> Result<(), String> {
+        match *self {
+            Indenter::Sphere { radius } if !(depth < radius) => Err(format!(
+                "indenter depth {depth:.6e} nm is not below the sphere radius {radius} nm, the \
+                 deepest the sphere (no shank) represents; with a soft machine spring or load \
+                 control nothing holds the indenter before contact: use smaller increments or \
+                 approach first"
+            )),
+            _ => Ok(()),
+        }
+    }
+
     /// Gap of the surface point `x` = (r, z) with the indenter at depth `depth` (nm).
     pub fn gap(&self, x: [f64; 2], depth: f64) -> Gap {
         let p = [x[0], x[1] + depth];
