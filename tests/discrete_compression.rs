@@ -244,3 +244,148 @@ fn the_pipeline_writes_the_curve_homogenize_fits_it_and_a_resumed_run_repeats_it
     assert_eq!(saved["steps"].as_array().unwrap().len(), 11);
     std::fs::remove_dir_all(dir).ok();
 }
+
+// ---------------------------------------------------------------------------------------------
+// Micromechanics (seed 2.8–2.14) checked with the discrete rod energy (issue 7, must-show 1).
+//
+// The idealised cell: one free segment of arc length l, straight at rest (K κ² is the strain
+// energy measured from straight, (2.8)), bent to a uniform curvature κ by two straight rigid
+// contact patches of length a that each add a/2 along the compression axis (y) above and below
+// — the reading of (2.10), δε = −δb/(b + a/2) per half cell, that reproduces the numerator of
+// (2.12). "Constant structure" is the seed's kinematic assumption: l, a fixed, the segment stays
+// a circular arc; σ = n ∂U/∂ε along that path (2.13). The discrete segment is N equal edges of
+// length l/N turning by the same angle α at each interior vertex (inextensible: no stretching
+// energy), the rods' own bending energy supplies U.
+
+/// The discrete free segment: N edges of length l/N in the x–y plane, each interior vertex
+/// turning by α, symmetric about the y axis (the compression axis).
+fn bent_segment(segments: usize, length: f64, alpha: f64) -> Vec<f64> {
+    let h = length / segments as f64;
+    let mut p = [0.0f64; 3];
+    let mut x = p.to_vec();
+    for j in 0..segments {
+        let psi = -0.5 * (segments as f64 - 1.0) * alpha + j as f64 * alpha;
+        p[0] += h * psi.sin();
+        p[1] += h * psi.cos();
+        x.extend_from_slice(&p);
+    }
+    x
+}
+
+/// σ of the discrete cell (GPa) at mean curvature κ (1/nm) of the free segment: n (b + a)
+/// (−dU/dα)/(db/dα), the bending energy U (aJ) from the rod model and the chord b (nm) along
+/// y, both differentiated in α by central differences (relative step 1e-5: both are analytic in
+/// α, the truncation ~1e-10 and round-off ~1e-16/1e-5 are far below the tolerances used).
+fn discrete_cell_stress(
+    segments: usize,
+    seg: &turf::theory::micromech::Segments,
+    kappa: f64,
+) -> f64 {
+    use turf::discrete::rod::{straight_points, Rod, RodStiffness};
+    let l = seg.free_length;
+    let stiffness = RodStiffness {
+        bending: seg.bending_stiffness,
+        axial: 1e5,
+    };
+    let rest = straight_points([0.0; 3], [0.0, 1.0, 0.0], l, segments);
+    let rod = Rod::straight(0, &rest, stiffness).unwrap();
+    // the discrete turning per vertex that spreads the arc's total turning κl over N vertices
+    // (the Voronoi length of each interior vertex is l/N; the N − 1 interior vertices turn κl
+    // less one vertex's share, an O(1/N) error the convergence test measures)
+    let alpha = kappa * l / segments as f64;
+    let energy_chord = |a: f64| {
+        let x = bent_segment(segments, l, a);
+        let (stretch, bend) = rod.energy_parts(&x);
+        (stretch + bend, x[x.len() - 2] - x[1])
+    };
+    let d = 1e-5 * alpha;
+    let (u_p, b_p) = energy_chord(alpha + d);
+    let (u_m, b_m) = energy_chord(alpha - d);
+    let (_, b) = energy_chord(alpha);
+    seg.number_density * (b + seg.contact_length) * (u_p - u_m) / (b_m - b_p)
+}
+
+/// f(θ) of the circular arc of (2.10)–(2.11) with θ = κl/2: b = l sin θ/θ at constant l gives
+/// f = (φθ + sin θ)/(sin θ − θ cos θ).
+fn arc_shape_factor(theta: f64, phi: f64) -> f64 {
+    (phi * theta + theta.sin()) / (theta.sin() - theta * theta.cos())
+}
+
+fn idealised_segments(
+    free_length: f64,
+    phi: f64,
+    bending: f64,
+) -> turf::theory::micromech::Segments {
+    turf::theory::micromech::Segments {
+        number_density: 1e-6,
+        free_length,
+        contact_length: phi * free_length,
+        bending_stiffness: bending,
+        line_energy: 1.0,
+    }
+}
+
+#[test]
+fn an_idealised_bent_segment_cell_follows_the_scaling_of_2_13_and_2_14() {
+    let k = turf::discrete::rod::RodStiffness::turf_tube().bending;
+    let (l, phi, theta) = (500.0, 0.5, 0.3);
+    let kappa0 = 2.0 * theta / l;
+    let theory = |s: &turf::theory::micromech::Segments, kappa: f64| {
+        s.number_density
+            * s.free_length
+            * s.bending_stiffness
+            * kappa
+            * kappa
+            * arc_shape_factor(0.5 * kappa * s.free_length, s.phi())
+    };
+    // segment-count convergence: the error must fall ~1/N (the vertex-count defect above)
+    let s = idealised_segments(l, phi, k);
+    let errors: Vec<f64> = [16, 32, 64, 128]
+        .iter()
+        .map(|&n| discrete_cell_stress(n, &s, kappa0) / theory(&s, kappa0) - 1.0)
+        .collect();
+    eprintln!("micromech: relative error of the discrete σ₀ at N = 16, 32, 64, 128: {errors:?}");
+    for w in errors.windows(2) {
+        let order = (w[0] / w[1]).abs().log2();
+        assert!(
+            (0.8..1.2).contains(&order),
+            "convergence order {order} from {errors:?}"
+        );
+    }
+    // the tolerance of the ratio checks below: the N = 64 discretisation error, doubled (ratios
+    // of two discretisations at different geometry can add their errors)
+    let n = 64;
+    let tol = 2.0 * errors[2].abs();
+    let sigma =
+        |s: &turf::theory::micromech::Segments, kappa: f64| discrete_cell_stress(n, s, kappa);
+    let base = sigma(&s, kappa0);
+    assert!(base > 0.0, "a threshold stress: σ₀ = {base} GPa");
+    // (2.14) through theory::micromech: its σ₀ ratios at the same θ and φ (f cancels)
+    let printed = |s: &turf::theory::micromech::Segments, kappa: f64| {
+        s.threshold_stress(kappa, 0.5 * kappa * s.free_length)
+            .unwrap()
+    };
+    // K ×3
+    let s_k = idealised_segments(l, phi, 3.0 * k);
+    let (disc, th) = (
+        sigma(&s_k, kappa0) / base,
+        printed(&s_k, kappa0) / printed(&s, kappa0),
+    );
+    assert!((disc / th - 1.0).abs() < tol, "K: {disc} vs {th}");
+    // κ₀ ×2 at the same θ (l halved, so the shape is the same)
+    let s_c = idealised_segments(0.5 * l, phi, k);
+    let (disc, th) = (
+        sigma(&s_c, 2.0 * kappa0) / base,
+        printed(&s_c, 2.0 * kappa0) / printed(&s, kappa0),
+    );
+    assert!((disc / th - 1.0).abs() < tol, "κ₀: {disc} vs {th}");
+    // φ = a/l from 0.5 to 1.0 and 2.0 at the same θ: the arc's f(θ, φ), not the printed (2.12)
+    for phi2 in [1.0, 2.0] {
+        let s_p = idealised_segments(l, phi2, k);
+        let disc = sigma(&s_p, kappa0) / base;
+        let arc = arc_shape_factor(theta, phi2) / arc_shape_factor(theta, phi);
+        let printed_ratio = printed(&s_p, kappa0) / printed(&s, kappa0);
+        eprintln!("micromech: φ {phi} → {phi2}: discrete σ₀ ratio {disc}, arc f ratio {arc}, printed (2.12) ratio {printed_ratio}");
+        assert!((disc / arc - 1.0).abs() < tol, "φ: {disc} vs {arc}");
+    }
+}
