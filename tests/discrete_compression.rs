@@ -389,3 +389,98 @@ fn an_idealised_bent_segment_cell_follows_the_scaling_of_2_13_and_2_14() {
         assert!((disc / arc - 1.0).abs() < tol, "φ: {disc} vs {arc}");
     }
 }
+
+/// Smallest positive root x < π/2 of tan x = x (1 + c/L): the critical load P = K x²/L² of a
+/// clamped–free column whose end load passes through a fixed point a distance c beyond its tip
+/// (the centre of a frictionless sphere touching the tip: lateral tip deflection δ tilts the
+/// normal force by δ/c outward; K w'' = P(δ − w) + (Pδ/c)(L − x), w(0) = w'(0) = 0,
+/// w(L) = δ). c → ∞ is the flat frictionless platen, x = π/2, Euler's P = π²K/(4L²).
+fn pole_load_root(c_over_l: f64) -> f64 {
+    let (mut lo, mut hi) = (1e-9, std::f64::consts::FRAC_PI_2 - 1e-12);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid.tan() > mid * (1.0 + c_over_l) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// A clamped vertical tube of length L pushed down at its tip by a rigid frictionless sphere
+/// centred over it: the sphere force after buckling is the column's critical load.
+fn sphere_on_column(radius: f64) -> (f64, f64) {
+    use turf::discrete::constraints::{ClampedEnd, FixedDofs, RodEnd};
+    use turf::discrete::platen::{Facing, Shape, Wall};
+    use turf::discrete::rod::{Rod, RodStiffness};
+    use turf::discrete::solve::Sum;
+    use turf::discrete::solve_newton::minimize_newton;
+    let (segments, length) = (40, 1000.0);
+    let stiffness = RodStiffness::turf_tube();
+    let r_tube = 20.0;
+    // natural shape with a 0.1 nm lateral imperfection w₀(1 − cos(πs/2L)): the plateau
+    // load at tip deflection δ is P_cr(1 − w₀/δ) to first order
+    let rest: Vec<[f64; 3]> = (0..=segments)
+        .map(|i| {
+            let s = length * i as f64 / segments as f64;
+            let w = 0.1 * (1.0 - (std::f64::consts::FRAC_PI_2 * s / length).cos());
+            [w, 0.0, s]
+        })
+        .collect();
+    let rod = Rod::natural(0, &rest, stiffness).unwrap();
+    let mut x: Vec<f64> = rest.iter().flatten().copied().collect();
+    let mut clamp = ClampedEnd::new(&rod, RodEnd::First, &x);
+    let mut rod = rod;
+    let mut fixed = FixedDofs::free(rod.nodes());
+    fixed.pin(0);
+    let tip = 3 * segments;
+    let top = x[tip + 2] + r_tube;
+    let mut sphere = Wall::new(top, Facing::Down, 1e3, vec![(segments, r_tube)]);
+    sphere.shape = Shape::Sphere {
+        radius,
+        x: x[tip],
+        y: 0.0,
+    };
+    // residual 1e-5 nN: 2e-7 of the ~50 nN load, far below the 1 % checked; the near-flat
+    // sphere's post-buckling branch stalls Newton at ~2e-6 nN
+    let params = NewtonParams {
+        tol_abs: 1e-5,
+        tol_rel: 0.0,
+        max_iterations: 2000,
+        ..NewtonParams::default()
+    };
+    // travel 2 nm in 0.1 nm steps: ~0.7 nm to reach the critical load (axial + penalty
+    // compliance), the rest post-buckling shortening, a tip deflection of ~45 nm
+    for step in 1..=20 {
+        sphere.height = top - 0.1 * step as f64;
+        let mut model = Sum(vec![&mut rod, &mut clamp, &mut sphere]);
+        minimize_newton(&mut model, &fixed, &mut x, &params).unwrap();
+    }
+    (sphere.force(&x), x[tip])
+}
+
+#[test]
+fn a_clamped_tube_under_a_sphere_carries_its_critical_column_load() {
+    let k = turf::discrete::rod::RodStiffness::turf_tube().bending;
+    let length = 1000.0;
+    for radius in [500.0, 1.0e4] {
+        let (force, deflection) = sphere_on_column(radius);
+        let root = pole_load_root((radius + 20.0) / length);
+        let p_cr = k * root * root / (length * length);
+        let euler = k * std::f64::consts::PI.powi(2) / (4.0 * length * length);
+        eprintln!(
+            "sphere R = {radius} nm: F = {force} nN at tip deflection {deflection} nm; \
+             pole-load P_cr = {p_cr} nN, flat-platen Euler {euler} nN"
+        );
+        assert!(
+            deflection.abs() > 20.0,
+            "buckled: tip deflection {deflection} nm"
+        );
+        // imperfection 0.1/45 ≈ 0.2 %, post-buckling rise ~α²/8 ≈ 0.03 %, 40 segments ~0.1 %
+        assert!(
+            (force / p_cr - 1.0).abs() < 0.01,
+            "F {force} vs P_cr {p_cr}"
+        );
+    }
+}
