@@ -134,6 +134,22 @@ impl Wall {
             .sum()
     }
 
+    /// The highest z at which a node of tube radius `r` at (`x`, `y`) clears a downward-facing
+    /// wall (`None`: the sphere is not above that point); the drive's predictor.
+    pub fn ceiling(&self, x: f64, y: f64, r: f64) -> Option<f64> {
+        match self.shape {
+            Shape::Plane => Some(self.height - r),
+            Shape::Sphere {
+                radius,
+                x: cx,
+                y: cy,
+            } => {
+                let reach2 = (radius + r).powi(2) - (x - cx).powi(2) - (y - cy).powi(2);
+                (reach2 > 0.0).then(|| self.height + radius - reach2.sqrt())
+            }
+        }
+    }
+
     /// Number of nodes touching the wall (d > 0).
     pub fn touching(&self, x: &[f64]) -> usize {
         self.nodes
