@@ -78,33 +78,47 @@ fn run_curve() -> Vec<StepRecord> {
 
 #[test]
 fn the_platen_force_is_minus_the_derivative_of_the_equilibrium_energy() {
-    let (mut sys, mut x) = relaxed_system();
-    let h0 = sys.height(&x);
-    let h = h0 * 0.9;
-    let params = CompressionParams {
-        strain_max: 0.1,
-        steps: 2,
-        unload: false,
+    // the flat platen, and a 300 nm sphere over the box centre (its 10 % footprint,
+    // √(2R·100 nm) ≈ 245 nm, covers the 200 nm box)
+    let sphere = turf::discrete::platen::Shape::Sphere {
+        radius: 300.0,
+        x: 100.0,
+        y: 100.0,
     };
-    let recs = compress(&mut sys, &mut x, &params, &newton(), None, &mut |_, _| {}).unwrap();
-    let force = recs.last().unwrap().state.platen_force;
-    assert!(force > 0.0, "the platen must carry load at 10 % strain");
-    let total = |s: &turf::discrete::model::State| {
-        let e = s.energy;
-        e.stretching + e.bending + e.vdw + e.walls
-    };
-    let mut energy_at = |dh: f64| {
-        let mut y = x.clone();
-        sys.set_platen(h + dh);
-        sys.solve(&mut y, &newton()).unwrap();
-        total(&sys.state(&y))
-    };
-    let (ep, em) = (energy_at(FD_STEP), energy_at(-FD_STEP));
-    let fd = -(ep - em) / (2.0 * FD_STEP);
-    assert!(
-        (fd - force).abs() < FD_TOL * force,
-        "−dE*/dH = {fd} nN, platen force {force} nN"
-    );
+    for indenter in [turf::discrete::platen::Shape::Plane, sphere] {
+        let (mut sys, mut x) = relaxed_system();
+        sys.indenter = indenter;
+        let h0 = sys.height(&x);
+        let h = h0 * 0.9;
+        let params = CompressionParams {
+            strain_max: 0.1,
+            steps: 2,
+            unload: false,
+        };
+        let recs = compress(&mut sys, &mut x, &params, &newton(), None, &mut |_, _| {}).unwrap();
+        let force = recs.last().unwrap().state.platen_force;
+        assert!(
+            force > 0.0,
+            "the {indenter:?} must carry load at 10 % strain"
+        );
+        let total = |s: &turf::discrete::model::State| {
+            let e = s.energy;
+            e.stretching + e.bending + e.vdw + e.walls
+        };
+        let mut energy_at = |dh: f64| {
+            let mut y = x.clone();
+            sys.set_platen(h + dh);
+            sys.solve(&mut y, &newton()).unwrap();
+            total(&sys.state(&y))
+        };
+        let (ep, em) = (energy_at(FD_STEP), energy_at(-FD_STEP));
+        let fd = -(ep - em) / (2.0 * FD_STEP);
+        eprintln!("{indenter:?}: force {force} nN, −dE*/dH {fd} nN");
+        assert!(
+            (fd - force).abs() < FD_TOL * force,
+            "{indenter:?}: −dE*/dH = {fd} nN, force {force} nN"
+        );
+    }
 }
 
 #[test]
