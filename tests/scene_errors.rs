@@ -446,11 +446,11 @@ fn the_sphere_indenter_keys_are_checked() {
     assert_has(&msg, &["bad.toml", "compression.sphere_radius", "required"]);
     let msg = error(&sphere, &["compression.sphere_radius=\"-5 nm\""]);
     assert_has(&msg, &["compression.sphere_radius", "must be positive"]);
-    let msg = error(&TURF, &["compression.sphere_radius=\"5 nm\""]);
+    let msg = error(TURF, &["compression.sphere_radius=\"5 nm\""]);
     assert_has(
         &msg,
         &["compression.sphere_radius", "\"platen\"", "\"sphere\""],
     );
-    let msg = error(&TURF, &["compression.indenter=\"cone\""]);
+    let msg = error(TURF, &["compression.indenter=\"cone\""]);
     assert_has(&msg, &["compression.indenter", "`platen`", "`sphere`"]);
 }
