@@ -48,7 +48,7 @@ pub struct Compression {
     #[serde(default = "default_indenter")]
     pub indenter: Indenter,
     /// Radius of the sphere, > 0; required with `indenter = "sphere"`, not allowed otherwise.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sphere_radius: Option<Length>,
     /// Final nominal compressive strain, in (0, 1). Required.
     pub to: Number,
