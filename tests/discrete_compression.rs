@@ -498,3 +498,34 @@ fn a_clamped_tube_under_a_sphere_carries_its_critical_column_load() {
         );
     }
 }
+
+#[test]
+fn the_pipeline_writes_the_sphere_load_depth_curve() {
+    let scene = SCENE
+        .replace(
+            "to = 0.3\nsteps = 5\nunload = true",
+            "indenter = \"sphere\"\nsphere_radius = \"300 nm\"\nto = 0.1\nsteps = 2",
+        )
+        .replace("[homogenize]\ncurve = \"loading\"\n", "")
+        .replace("vtk = true", "vtk = false");
+    let loaded = turf::scene::load_str(&scene, Path::new("t.toml"), &[]).unwrap();
+    let dir = std::env::temp_dir().join(format!("turf-sphere-{}", std::process::id()));
+    let opts = turf::pipeline::RunOptions {
+        out: Some(dir.clone()),
+        progress: false,
+        resume: false,
+    };
+    let report = turf::pipeline::run(&loaded, &opts).unwrap();
+    assert!(report.failure.is_none(), "{:?}", report.failure);
+    let csv = std::fs::read_to_string(dir.join("load_depth.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(csv.lines().next().unwrap(), "depth_nm,load_nN,loading");
+    assert_eq!(rows.len(), 3);
+    assert_eq!(rows[0][0], 0.0);
+    assert!(rows[2][0] > rows[1][0] && rows[2][1] > 0.0, "{rows:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
