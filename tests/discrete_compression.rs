@@ -177,10 +177,10 @@ vtk = true
 plots = false
 "#;
 
-#[test]
-fn the_pipeline_writes_the_curve_homogenize_fits_it_and_a_resumed_run_repeats_it() {
-    let loaded = turf::scene::load_str(SCENE, Path::new("t.toml"), &[]).unwrap();
-    let dir = std::env::temp_dir().join(format!("turf-discrete-{}", std::process::id()));
+/// Load `scene` and run it into a fresh temporary folder named by `tag`; the run must succeed.
+fn run_scene(scene: &str, tag: &str) -> (turf::scene::Loaded, std::path::PathBuf) {
+    let loaded = turf::scene::load_str(scene, Path::new("t.toml"), &[]).unwrap();
+    let dir = std::env::temp_dir().join(format!("turf-{tag}-{}", std::process::id()));
     let opts = turf::pipeline::RunOptions {
         out: Some(dir.clone()),
         progress: false,
@@ -188,6 +188,12 @@ fn the_pipeline_writes_the_curve_homogenize_fits_it_and_a_resumed_run_repeats_it
     };
     let report = turf::pipeline::run(&loaded, &opts).unwrap();
     assert!(report.failure.is_none(), "{:?}", report.failure);
+    (loaded, dir)
+}
+
+#[test]
+fn the_pipeline_writes_the_curve_homogenize_fits_it_and_a_resumed_run_repeats_it() {
+    let (loaded, dir) = run_scene(SCENE, "discrete");
     let csv = std::fs::read_to_string(dir.join("stress_strain.csv")).unwrap();
     let header = csv.lines().next().unwrap();
     assert!(
@@ -235,8 +241,9 @@ fn the_pipeline_writes_the_curve_homogenize_fits_it_and_a_resumed_run_repeats_it
     let resumed = turf::pipeline::run(
         &loaded,
         &turf::pipeline::RunOptions {
+            out: Some(dir.clone()),
+            progress: false,
             resume: true,
-            ..opts
         },
     )
     .unwrap();
@@ -508,15 +515,7 @@ fn the_pipeline_writes_the_sphere_load_depth_curve() {
         )
         .replace("[homogenize]\ncurve = \"loading\"\n", "")
         .replace("vtk = true", "vtk = false");
-    let loaded = turf::scene::load_str(&scene, Path::new("t.toml"), &[]).unwrap();
-    let dir = std::env::temp_dir().join(format!("turf-sphere-{}", std::process::id()));
-    let opts = turf::pipeline::RunOptions {
-        out: Some(dir.clone()),
-        progress: false,
-        resume: false,
-    };
-    let report = turf::pipeline::run(&loaded, &opts).unwrap();
-    assert!(report.failure.is_none(), "{:?}", report.failure);
+    let (_, dir) = run_scene(&scene, "sphere");
     let csv = std::fs::read_to_string(dir.join("load_depth.csv")).unwrap();
     let rows: Vec<Vec<f64>> = csv
         .lines()
