@@ -54,8 +54,6 @@ struct RelaxReport {
 
 /// File names of the branches handed to the homogenize stage.
 pub(super) const LOADING_CSV: &str = "stress_strain_loading.csv";
-/// The sphere's load–depth curve (every step: depth below the first contact height, load).
-const LOAD_DEPTH_CSV: &str = "load_depth.csv";
 /// See [`LOADING_CSV`].
 pub(super) const UNLOADING_CSV: &str = "stress_strain_unloading.csv";
 
@@ -72,6 +70,9 @@ fn report(source: ReportError) -> StageError {
         source,
     }
 }
+
+/// The sphere's load–depth curve (every step: depth below the first contact height, load).
+const LOAD_DEPTH_CSV: &str = "load_depth.csv";
 
 /// Run the stage.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
