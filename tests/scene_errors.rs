@@ -432,3 +432,25 @@ fn collective_growth_keys_out_of_range_are_refused() {
         ],
     );
 }
+
+#[test]
+fn the_sphere_indenter_keys_are_checked() {
+    let sphere = TURF.replace("to = 0.3", "to = 0.3\nindenter = \"sphere\"");
+    load_str(
+        &sphere.replace("indenter", "sphere_radius = \"500 nm\"\nindenter"),
+        Path::new("good.toml"),
+        &[],
+    )
+    .unwrap();
+    let msg = error(&sphere, &[]);
+    assert_has(&msg, &["bad.toml", "compression.sphere_radius", "required"]);
+    let msg = error(&sphere, &["compression.sphere_radius=\"-5 nm\""]);
+    assert_has(&msg, &["compression.sphere_radius", "must be positive"]);
+    let msg = error(TURF, &["compression.sphere_radius=\"5 nm\""]);
+    assert_has(
+        &msg,
+        &["compression.sphere_radius", "\"platen\"", "\"sphere\""],
+    );
+    let msg = error(TURF, &["compression.indenter=\"cone\""]);
+    assert_has(&msg, &["compression.indenter", "`platen`", "`sphere`"]);
+}

@@ -143,7 +143,7 @@ pub fn compress(
         } else if step == 0 {
             Cost::default()
         } else {
-            push_below(sys, x, h);
+            push_below(sys, x);
             sys.solve(x, solver)
                 .map_err(|source| DriveError::Step {
                     step,
@@ -168,11 +168,17 @@ pub fn compress(
     Ok(records)
 }
 
-/// Predictor: free nodes above the platen at `h` are moved down to just touch it.
-fn push_below(sys: &TurfSystem, x: &mut [f64], h: f64) {
+/// Predictor: free nodes inside the platen (flat or sphere) are moved straight down to just
+/// touch it.
+fn push_below(sys: &TurfSystem, x: &mut [f64]) {
+    let Some(platen) = &sys.model.platen else {
+        return;
+    };
     for &(n, r) in &sys.wall_nodes {
-        let z = &mut x[3 * n + 2];
-        *z = z.min(h - r);
+        if let Some(top) = platen.ceiling(x[3 * n], x[3 * n + 1], r) {
+            let z = &mut x[3 * n + 2];
+            *z = z.min(top);
+        }
     }
 }
 

@@ -7,7 +7,7 @@
 
 use super::constraints::FixedDofs;
 use super::energy::EnergyTerm;
-use super::platen::{Facing, Wall};
+use super::platen::{Facing, Shape, Wall};
 use super::rod::{Rod, RodError, RodSet, RodStiffness};
 use super::solve::{Info, SolveError};
 use super::solve_fire::{minimize_fire, FireParams};
@@ -112,6 +112,8 @@ pub struct TurfSystem {
     pub wall_stiffness: f64,
     /// area of the box, nm² (the platen's nominal area)
     pub area: f64,
+    /// what presses on the turf: the flat platen ([`Shape::Plane`], the default) or a sphere
+    pub indenter: Shape,
 }
 
 /// The energy of a configuration by part, aJ.
@@ -205,6 +207,7 @@ impl TurfSystem {
             wall_nodes,
             wall_stiffness,
             area,
+            indenter: Shape::Plane,
         })
     }
 
@@ -216,17 +219,19 @@ impl TurfSystem {
             .fold(f64::NEG_INFINITY, f64::max)
     }
 
-    /// Put the platen at height `h` (nm).
+    /// Put the platen (the indenter's lowest point) at height `h` (nm).
     pub fn set_platen(&mut self, h: f64) {
         match self.model.platen.as_mut() {
             Some(p) => p.height = h,
             None => {
-                self.model.platen = Some(Wall::new(
+                let mut wall = Wall::new(
                     h,
                     Facing::Down,
                     self.wall_stiffness,
                     self.wall_nodes.clone(),
-                ))
+                );
+                wall.shape = self.indenter;
+                self.model.platen = Some(wall)
             }
         }
     }

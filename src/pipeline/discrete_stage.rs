@@ -6,7 +6,8 @@
 //! Writes `stress_strain.csv` (every step: strain, stress_GPa, energies, contacts, cost),
 //! `stress_strain_loading.csv` and `stress_strain_unloading.csv` (strain ascending, the curves
 //! the homogenize stage fits), `discrete_analysis.json` (the fit or why it failed), the
-//! tangent moduli as `discrete_tangent.csv`, plots under `plots/`, and, with `[output] vtk`,
+//! tangent moduli as `discrete_tangent.csv`, with `indenter = "sphere"` the load–depth curve
+//! `load_depth.csv` (depth below the turf top, load on the sphere), plots under `plots/`, and, with `[output] vtk`,
 //! the tubes as VTK polylines at the relaxed state, the peak strain and the end
 //! (`vtk/discrete_step_NNN.vtu`). After every strain step it saves `discrete_checkpoint.json`
 //! ([`crate::discrete::checkpoint`]); with `--resume` ([`StageContext::resume`]) a run of the
@@ -19,7 +20,7 @@ use crate::discrete::checkpoint::{Checkpoint, SavedRelaxation};
 use crate::discrete::drive::{compress, CompressionParams, Resume, SavedStep, StepRecord};
 use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
 use crate::discrete::model::{relax, State, StaticSolver, TurfSystem};
-use crate::discrete::platen::DEFAULT_WALL_STIFFNESS;
+use crate::discrete::platen::{Shape, DEFAULT_WALL_STIFFNESS};
 use crate::discrete::rod::RodStiffness;
 use crate::discrete::solve_fire::FireParams;
 use crate::discrete::solve_newton::minimize_newton;
@@ -31,7 +32,7 @@ use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
 use crate::report::vtk::{CellKind, DataArray, Grid};
 use crate::report::{write_json, ReportError};
-use crate::scene::compression::{Compression, DiscreteSolver, Platen};
+use crate::scene::compression::{Compression, DiscreteSolver, Indenter, Platen};
 use crate::scene::rods::End;
 use crate::scene::{ResolvedScene, Stage};
 use std::collections::BTreeMap;
@@ -70,6 +71,9 @@ fn report(source: ReportError) -> StageError {
     }
 }
 
+/// The sphere's load–depth curve (every step: depth below the first contact height, load).
+const LOAD_DEPTH_CSV: &str = "load_depth.csv";
+
 /// Run the stage.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
     let s = &scene.scene;
@@ -106,6 +110,13 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         area,
     )
     .map_err(|e| failed(e.to_string()))?;
+    if let (Indenter::Sphere, Some(r)) = (k.indenter, k.sphere_radius) {
+        sys.indenter = Shape::Sphere {
+            radius: r.0,
+            x: 0.5 * t.box_size[0].0,
+            y: 0.5 * t.box_size[1].0,
+        };
+    }
     let solver = static_solver(k);
     let mut x = turf.coordinates();
     let checkpoint_path = ctx.out_dir.join(CHECKPOINT);
@@ -224,6 +235,25 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         .write(&ctx.out_dir.join("stress_strain.csv"))
         .map_err(report)?;
     files.push("stress_strain.csv".into());
+    if k.indenter == Indenter::Sphere {
+        let h0 = records[0].height;
+        Table::new()
+            .column("depth_nm", records.iter().map(|r| h0 - r.height).collect())
+            .column(
+                "load_nN",
+                records.iter().map(|r| r.state.platen_force).collect(),
+            )
+            .column(
+                "loading",
+                records
+                    .iter()
+                    .map(|r| f64::from(u8::from(r.loading)))
+                    .collect(),
+            )
+            .write(&ctx.out_dir.join(LOAD_DEPTH_CSV))
+            .map_err(report)?;
+        files.push(LOAD_DEPTH_CSV.into());
+    }
     branch_table(&analysis.loading)
         .write(&ctx.out_dir.join(LOADING_CSV))
         .map_err(report)?;

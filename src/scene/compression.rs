@@ -1,9 +1,10 @@
-//! `[compression]`: the discrete drive — a rigid platen pressed onto the turf (or rods) along
-//! a nominal-strain path, optionally unloaded again to measure reversibility; each step is
+//! `[compression]`: the discrete drive — a rigid platen (or, with `indenter = "sphere"`, a rigid
+//! frictionless sphere of radius `sphere_radius` over the box centre) pressed onto the turf (or
+//! rods) along a nominal-strain path, optionally unloaded again to measure reversibility; each step is
 //! relaxed to equilibrium by FIRE or Newton.
 
 use super::check::Checker;
-use super::quantity::{Force, Number};
+use super::quantity::{Force, Length, Number};
 use serde::{Deserialize, Serialize};
 
 /// How the platen meets the tube tops.
@@ -14,6 +15,16 @@ pub enum Platen {
     Frictionless,
     /// the tops move with the platen
     Bonded,
+}
+
+/// What presses on the turf.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Indenter {
+    /// a flat platen over the whole box (stress–strain curve)
+    Platen,
+    /// a rigid frictionless sphere over the box centre (load–depth curve)
+    Sphere,
 }
 
 /// Equilibrium solver of each step.
@@ -33,6 +44,12 @@ pub struct Compression {
     /// `"frictionless"` or `"bonded"`. Default `"frictionless"`.
     #[serde(default = "default_platen")]
     pub platen: Platen,
+    /// `"platen"` or `"sphere"`. Default `"platen"`.
+    #[serde(default = "default_indenter")]
+    pub indenter: Indenter,
+    /// Radius of the sphere, > 0; required with `indenter = "sphere"`, not allowed otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sphere_radius: Option<Length>,
     /// Final nominal compressive strain, in (0, 1). Required.
     pub to: Number,
     /// Strain steps to reach `to`, ≥ 1. Default 20.
@@ -55,6 +72,9 @@ pub struct Compression {
 fn default_platen() -> Platen {
     Platen::Frictionless
 }
+fn default_indenter() -> Indenter {
+    Indenter::Platen
+}
 fn default_steps() -> usize {
     20
 }
@@ -71,6 +91,18 @@ fn default_iterations() -> usize {
 impl Compression {
     pub(crate) fn check(&self, c: &mut Checker) {
         c.number_in("compression.to", self.to.0, 0.0, 1.0, true);
+        match (self.indenter, self.sphere_radius) {
+            (Indenter::Sphere, None) => c.bad(
+                "compression.sphere_radius",
+                "is required with indenter = \"sphere\" (a length > 0)",
+            ),
+            (Indenter::Sphere, r) => c.positive_opt("compression.sphere_radius", r),
+            (Indenter::Platen, Some(_)) => c.unused(
+                "compression.sphere_radius",
+                "with indenter = \"platen\" (allowed: \"platen\", \"sphere\")",
+            ),
+            (Indenter::Platen, None) => {}
+        }
         c.count_at_least("compression.steps", self.steps, 1);
         c.positive("compression.tolerance", self.tolerance);
         c.count_at_least("compression.max_iterations", self.max_iterations, 1);

@@ -336,6 +336,17 @@ fn resolve(mut scene: Scene, file: &Path) -> Result<ResolvedScene, Vec<(String, 
         s.check(&mut c);
     }
     let to = scene.compression.as_ref().map(|k| k.to.0);
+    let sphere = scene
+        .compression
+        .as_ref()
+        .is_some_and(|k| k.indenter == compression::Indenter::Sphere);
+    if sphere && scene.homogenize.is_some() {
+        c.bad(
+            "compression.indenter",
+            "\"sphere\" is not allowed with [homogenize]: the sphere gives a load–depth \
+             curve, not the stress–strain curve homogenisation fits (allowed: \"platen\")",
+        );
+    }
     if let Some(s) = &mut scene.homogenize {
         s.check(&mut c, to);
     }
