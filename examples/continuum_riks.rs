@@ -5,12 +5,16 @@
 //! Env `C0` (Newton's damping coefficient, GPa·s/nm), `ZONE` (smallest element, nm), `INC`
 //! (increments per segment), `ONLY=riks` (skip the Newton run), `CSV` (write both runs' rows
 //! under this folder), `CONTRACTION` (the corrector's modified-Newton contraction factor) and
-//! `RIKS_INC` (the arc-length run's increments per segment, its step cap).
+//! `RIKS_INC` (the arc-length run's increments per segment, its step cap), `NEOHOOKE=1` (the
+//! solid as a one-term hyperfoam with α = 2, β = 0, μ = E*/2: the compressible neo-Hookean with
+//! the same small-strain moduli, which has no compressive limit point, unlike St Venant–Kirchhoff).
 
 use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
 use turf::continuum::element::Kinematics;
 use turf::continuum::events::{curve_distance, spring_pull_off};
 use turf::continuum::indent::Method;
+use turf::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
+use turf::continuum::material::Elastic;
 use turf::continuum::{run_indent, IndentParams, IndentResult};
 use turf::halfspace::{trace_curve, HalfspaceParams, Problem};
 use turf::laws::LjKind;
@@ -43,6 +47,16 @@ fn main() {
     };
     let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<f64>().ok());
     let mut newton = tabor_sphere(mu, rz, kind, kin);
+    if std::env::var("NEOHOOKE").is_ok_and(|v| v == "1") {
+        let (e, _) = newton.material.elastic.initial_moduli();
+        newton.material.elastic = Elastic::Hyperfoam(Hyperfoam {
+            terms: vec![HyperfoamTerm {
+                mu: 0.5 * e,
+                alpha: 2.0,
+                beta: 0.0,
+            }],
+        });
+    }
     if let Some(h) = env("ZONE") {
         newton.mesh.smallest = Some(h);
     }
