@@ -222,10 +222,13 @@ pub struct BenchOptions {
     pub out: PathBuf,
 }
 
-/// The tasks of the bench, in order, with their names (for progress).
-fn tasks(opts: &BenchOptions) -> Vec<(&'static str, Box<dyn Fn(&mut BenchReport) + '_>)> {
+/// One task of the bench: its name (for progress) and what it adds to the report.
+type Task<'a> = (&'static str, Box<dyn Fn(&mut BenchReport) + 'a>);
+
+/// The tasks of the bench, in order.
+fn tasks(opts: &BenchOptions) -> Vec<Task<'_>> {
     let q = opts.quick;
-    let mut t: Vec<(&'static str, Box<dyn Fn(&mut BenchReport) + '_>)> = vec![
+    let mut t: Vec<Task<'_>> = vec![
         (
             "pull-off μ = 0.5",
             Box::new(|r| r.rows.extend(ladder::pull_off_rows(0.5, true))),
