@@ -10,10 +10,11 @@
 //!   the hyperfoam card homogenised from them, the card's error against the discrete curve and
 //!   the speed-up, and the card's FE indentation cost.
 
+use super::sweeps::{hertz_load, HERTZ_E_STAR};
 use super::{timed, Cost, Row};
 use crate::continuum::adhesion::{normalised_pull_off, tabor_sphere};
 use crate::continuum::element::Kinematics;
-use crate::continuum::{run_indent, FeError, IndentParams, IndentResult, Segment};
+use crate::continuum::{run_indent, FeError, IndentParams, IndentResult};
 use crate::discrete::rod::RodStiffness;
 use crate::discrete::rod_problems::RodProblem;
 use crate::discrete::solve_newton::NewtonParams;
@@ -123,44 +124,26 @@ pub fn pull_off_rows(mu: f64, fe: bool) -> Vec<Row> {
 
 /// Hertz load at δ = 10 nm by the FE at both kinematics on the default mesh.
 pub fn hertz_rows() -> Vec<Row> {
-    let (radius, depth, youngs, poisson): (f64, f64, f64, f64) = (1000.0, 10.0, 0.7, 0.3);
-    let e_star = youngs / (1.0 - poisson * poisson);
-    let reference = 4.0 / 3.0 * e_star * radius.sqrt() * depth.powf(1.5);
+    let (radius, depth, e_star) = (1000.0, 10.0, HERTZ_E_STAR);
+    let reference = crate::theory::hertz::load_from_depth(depth, radius, e_star);
     let problem = "Hertz load (nN), R = 1 µm, δ = 10 nm, E = 0.7 GPa, ν = 0.3";
     let source = "Hertz (4/3)E*R^½δ^(3/2)";
+    let per_radius = crate::continuum::indent::MeshParams::default().elements_per_radius;
     [Kinematics::Small, Kinematics::Finite]
         .into_iter()
         .map(|kin| {
-            let mut p = IndentParams::hertz_example();
-            p.kinematics = kin;
-            p.schedule = vec![Segment::Load {
-                to: depth,
-                rate: 10.0,
-            }];
-            p.solver.increments = 5;
-            let (r, cost) = timed(|| indent(&p));
-            let (answer, note) = match r {
-                Ok(r) => match r.rows.last() {
-                    Some(row) if (row.depth_nm - depth).abs() < 1e-9 => (
-                        Ok(row.load_nN),
-                        format!(
-                            "{} elements{}",
-                            r.mesh_report.elements,
-                            if kin == Kinematics::Finite {
-                                "; Hertz is small-strain: ≈ −0.3 a/R of the error is physical"
-                            } else {
-                                ""
-                            }
-                        ),
-                    ),
-                    _ => (Err("stopped before δ = 10 nm".to_string()), String::new()),
-                },
-                Err(e) => (Err(e), String::new()),
+            let (r, cost) = timed(|| hertz_load(kin, per_radius, 5, vec![], depth, 10.0));
+            let note = match (&r, kin) {
+                (Ok((_, elements)), Kinematics::Finite) => format!(
+                    "{elements} elements; Hertz is small-strain: ≈ −0.3 a/R of the error is physical"
+                ),
+                (Ok((_, elements)), _) => format!("{elements} elements"),
+                (Err(_), _) => String::new(),
             };
             Row::new(
                 problem,
                 kin_name(kin),
-                answer,
+                r.map(|(p, _)| p),
                 (reference, source),
                 cost,
                 note,

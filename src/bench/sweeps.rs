@@ -83,10 +83,14 @@ pub fn halfspace_grid(quick: bool) -> Result<Sweep, String> {
     ))
 }
 
-/// Hertz (R = 1 µm, E = 0.7 GPa, ν = 0.3) to `depth` at small strain, with a mesh of
+/// E* of the Hertz example (E = 0.7 GPa, ν = 0.3), GPa.
+pub const HERTZ_E_STAR: f64 = 0.7 / (1.0 - 0.3 * 0.3);
+
+/// Hertz (R = 1 µm, E = 0.7 GPa, ν = 0.3) to `depth` at `kinematics`, with a mesh of
 /// `per_radius` elements per contact radius, `increments` increments and Prony terms `prony`:
 /// the final load and the element count.
-fn hertz_load(
+pub fn hertz_load(
+    kinematics: Kinematics,
     per_radius: f64,
     increments: usize,
     prony: Vec<PronyTerm>,
@@ -94,7 +98,7 @@ fn hertz_load(
     rate: f64,
 ) -> Result<(f64, usize), String> {
     let mut p = IndentParams::hertz_example();
-    p.kinematics = Kinematics::Small;
+    p.kinematics = kinematics;
     p.mesh.elements_per_radius = per_radius;
     p.material.prony = prony;
     p.schedule = vec![Segment::Load { to: depth, rate }];
@@ -109,8 +113,8 @@ fn hertz_load(
 
 /// The FE Hertz load on meshes of increasing density.
 pub fn fe_hertz_mesh(quick: bool) -> Sweep {
-    let (radius, depth, e_star) = (1000.0f64, 10.0f64, 0.7 / (1.0 - 0.09));
-    let reference = 4.0 / 3.0 * e_star * radius.sqrt() * depth.powf(1.5);
+    let depth = 10.0;
+    let reference = crate::theory::hertz::load_from_depth(depth, 1000.0, HERTZ_E_STAR);
     let settings: &[f64] = if quick {
         &[5.0, 10.0, 20.0]
     } else {
@@ -122,7 +126,7 @@ pub fn fe_hertz_mesh(quick: bool) -> Sweep {
         "elements per contact radius",
         (reference, "Hertz"),
         settings,
-        |n| hertz_load(n, 5, vec![], depth, 10.0).map(|(p, e)| (p, Some(e))),
+        |n| hertz_load(Kinematics::Small, n, 5, vec![], depth, 10.0).map(|(p, e)| (p, Some(e))),
     )
 }
 
@@ -145,7 +149,7 @@ pub fn lee_radok_ratio(g: f64, t_over_tau: f64) -> f64 {
 pub fn fe_time_step(quick: bool) -> Result<Sweep, String> {
     let (g, tau, depth, rate) = (0.5, 1.0, 10.0, 10.0);
     let per_radius = 10.0;
-    let (elastic, _) = hertz_load(per_radius, 5, vec![], depth, rate)?;
+    let (elastic, _) = hertz_load(Kinematics::Small, per_radius, 5, vec![], depth, rate)?;
     let reference = lee_radok_ratio(g, depth / rate / tau);
     let settings: &[f64] = if quick {
         &[2.0, 4.0, 8.0]
@@ -160,8 +164,15 @@ pub fn fe_time_step(quick: bool) -> Result<Sweep, String> {
         settings,
         |n| {
             let prony = vec![PronyTerm { g, tau }];
-            hertz_load(per_radius, n as usize, prony, depth, rate)
-                .map(|(p, e)| (p / elastic, Some(e)))
+            hertz_load(
+                Kinematics::Small,
+                per_radius,
+                n as usize,
+                prony,
+                depth,
+                rate,
+            )
+            .map(|(p, e)| (p / elastic, Some(e)))
         },
     ))
 }
