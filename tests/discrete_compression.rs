@@ -2,6 +2,9 @@
 //! to 30 % strain and back, the platen force as the derivative of the equilibrium energy, the
 //! same curve with 1 and 2 threads, and the pipeline's discrete + homogenize stages.
 
+mod common;
+
+use common::SMALL_TURF_SCENE as SCENE;
 use std::path::Path;
 use turf::discrete::drive::{compress, CompressionParams, StepRecord};
 use turf::discrete::model::{relax, StaticSolver, TurfSystem};
@@ -143,39 +146,6 @@ fn a_small_turf_compresses_to_30_percent_and_unloads_the_same_with_1_and_2_threa
     // tubes bend under the platen: more bending energy at the peak than relaxed
     assert!(one[5].state.energy.bending > one[0].state.energy.bending);
 }
-
-const SCENE: &str = r#"
-[scene]
-name = "discrete-pipeline-test"
-seed = 5
-[turf]
-density = "1e10 1/cm^2"
-box = ["200 nm", "200 nm"]
-[turf.tube]
-r_o = "20 nm"
-r_i = "17.3 nm"
-youngs = "0.4 TPa"
-segment = "125 nm"
-[turf.growth]
-length = "1 um"
-length_spread = 0.05
-tilt = 0.005
-waviness = "3 nm"
-wavelength = "700 nm"
-[turf.vdw]
-gamma_line = "1 nN"
-[compression]
-to = 0.3
-steps = 5
-unload = true
-solver = "newton"
-tolerance = "1e-6 nN"
-[homogenize]
-curve = "loading"
-[output]
-vtk = true
-plots = false
-"#;
 
 /// Load `scene` and run it into a fresh temporary folder named by `tag`; the run must succeed.
 fn run_scene(scene: &str, tag: &str) -> (turf::scene::Loaded, std::path::PathBuf) {

@@ -3,6 +3,9 @@
 //! discrete input recomputes), with the pipeline's stand-in runner and with the real engines
 //! on a small turf.
 
+mod common;
+
+use common::SMALL_TURF_SCENE;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use turf::pipeline::{run, run_with, RunOptions, StageContext, StageError, StageOutput};
@@ -204,39 +207,6 @@ fn a_rerun_changing_only_fe_keys_reuses_the_discrete_and_homogenize_stages() {
     std::fs::remove_dir_all(dir).ok();
 }
 
-/// The 4-tube, 1 µm turf of tests/discrete_compression.rs, loading only, fitted by homogenize.
-const SMALL_TURF: &str = r#"
-[scene]
-name = "chain-cache-real"
-seed = 5
-[turf]
-density = "1e10 1/cm^2"
-box = ["200 nm", "200 nm"]
-[turf.tube]
-r_o = "20 nm"
-r_i = "17.3 nm"
-youngs = "0.4 TPa"
-segment = "125 nm"
-[turf.growth]
-length = "1 um"
-length_spread = 0.05
-tilt = 0.005
-waviness = "3 nm"
-wavelength = "700 nm"
-[turf.vdw]
-gamma_line = "1 nN"
-[compression]
-to = 0.3
-steps = 5
-unload = false
-solver = "newton"
-tolerance = "1e-6 nN"
-[homogenize]
-curve = "loading"
-[output]
-plots = false
-"#;
-
 #[test]
 fn the_real_discrete_stage_is_reused_when_only_the_fit_changes() {
     let dir = temp_dir("real");
@@ -246,8 +216,17 @@ fn the_real_discrete_stage_is_reused_when_only_the_fit_changes() {
         resume: false,
     };
     let summary = |sets: &[&str]| {
-        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-        let loaded = load_str(SMALL_TURF, Path::new("small.toml"), &sets).unwrap();
+        // the shared small turf, loading only, without VTK, under this test's own name
+        let sets: Vec<String> = [
+            "scene.name=\"chain-cache-real\"",
+            "compression.unload=false",
+            "output.vtk=false",
+        ]
+        .iter()
+        .chain(sets)
+        .map(|s| s.to_string())
+        .collect();
+        let loaded = load_str(SMALL_TURF_SCENE, Path::new("small.toml"), &sets).unwrap();
         let report = run(&loaded, &opts).unwrap();
         assert!(report.failure.is_none(), "{:?}", report.failure);
         serde_json::to_value(&report.summary).unwrap()
