@@ -82,9 +82,18 @@ impl LennardJones {
         let (n, m) = self.kind.exponents();
         let c = self.prefactor();
         let s = self.z0 / h;
-        let sn = s.powi(n);
-        let sm = s.powi(m);
-        let phi = c * self.z0 * (s.powi(n - 1) / (n - 1) as f64 - s.powi(m - 1) / (m - 1) as f64);
+        // s^(m−1) and s^(n−1) by products (powi with a run-time exponent is a library call,
+        // a third of the discrete engine's time in the van der Waals kernel)
+        let s2 = s * s;
+        let (sm1, sn1) = match self.kind {
+            LjKind::Lj93 => (s2, (s2 * s2) * (s2 * s2)),
+            LjKind::Lj104 => {
+                let s3 = s2 * s;
+                (s3, s3 * s3 * s3)
+            }
+        };
+        let (sn, sm) = (sn1 * s, sm1 * s);
+        let phi = c * self.z0 * (sn1 / (n - 1) as f64 - sm1 / (m - 1) as f64);
         let p = c * (sn - sm);
         let k = c * (-(n as f64) * sn + (m as f64) * sm) / h;
         (phi, p, k)

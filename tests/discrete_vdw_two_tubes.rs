@@ -163,3 +163,87 @@ fn a_periodic_image_equals_the_shifted_tube() {
     assert!(e_shifted < -10.0, "the configuration must adhere");
     assert!((e_image - e_shifted).abs() < IMAGE_TOL * e_shifted.abs());
 }
+
+/// Sliding variation (parallel, crossed) of a 100 nm tube along a 480 nm one, segments
+/// `seg_a`/`seg_b` nm, and the parallel line-energy error, for the quadrature of `params`.
+fn quadrature_errors(params: &VdwParams, seg_a: f64, seg_b: f64) -> (f64, f64, f64) {
+    let r = params.radius_ref;
+    let d0 = 2.0 * r + params.gap_eq;
+    let a = straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 480.0, seg_a);
+    let variation = |crossed: bool| {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in 0..=40 {
+            let shift = 100.0 + 110.0 * k as f64 / 40.0;
+            let b = if crossed {
+                straight([shift, -50.0, d0], [0.0, 1.0, 0.0], 100.0, seg_b)
+            } else {
+                straight([shift, d0, 0.0], [1.0, 0.0, 0.0], 100.0, seg_b)
+            };
+            let e = energy(params, &[a.clone(), b], r, PeriodicBox::default());
+            lo = lo.min(e);
+            hi = hi.max(e);
+        }
+        (hi - lo) / lo.abs()
+    };
+    let pair = |l: f64| {
+        let a = straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], l, seg_a);
+        let b = straight([0.0, d0, 0.0], [1.0, 0.0, 0.0], l, seg_b);
+        energy(params, &[a, b], r, PeriodicBox::default())
+    };
+    let per_length = (pair(640.0) - pair(320.0)) / 320.0;
+    (
+        variation(false),
+        variation(true),
+        (per_length + params.gamma_l).abs() / params.gamma_l,
+    )
+}
+
+#[test]
+#[ignore = "quadrature sweep, the table of docs/discrete-contacts.md (20 s release)"]
+fn quadrature_sweep() {
+    let default = VdwParams::default();
+    let mut checked_default = false;
+    for (f, order) in [
+        (0.5, 4),
+        (0.5, 3),
+        (0.6, 3),
+        (0.75, 4),
+        (0.75, 3),
+        (1.0, 4),
+        (1.0, 3),
+        (2.0, 2),
+    ] {
+        let params = VdwParams {
+            panel_fraction: f,
+            gauss_order: order,
+            ..VdwParams::default()
+        };
+        let mut worst = (0.0_f64, 0.0_f64, 0.0_f64);
+        for (sa, sb) in [
+            (5.0, 5.0),
+            (20.0, 7.0),
+            (80.0, 33.0),
+            (13.0, 100.0),
+            (350.0, 200.0),
+        ] {
+            let (p, c, l) = quadrature_errors(&params, sa, sb);
+            worst = (worst.0.max(p), worst.1.max(c), worst.2.max(l));
+        }
+        println!(
+            "panel_fraction {f} gauss_order {order}: points per width {:.1}, sliding parallel {:.2e}, crossed {:.2e}, line energy {:.2e}",
+            order as f64 / f, worst.0, worst.1, worst.2
+        );
+        if f == default.panel_fraction && order == default.gauss_order {
+            // the default keeps a tenfold margin on the 1e-3
+            assert!(
+                worst.0.max(worst.1).max(worst.2) < 0.1 * SLIDING_TOL,
+                "{worst:?}"
+            );
+            checked_default = true;
+        }
+    }
+    assert!(
+        checked_default,
+        "the sweep must include the default quadrature"
+    );
+}

@@ -133,17 +133,28 @@ pub fn compress(
             path.len()
         )));
     }
-    let mut records = Vec::new();
+    let mut records: Vec<StepRecord> = Vec::new();
+    // the equilibrium before the current one, for the secant predictor
+    let mut before: Option<(Vec<f64>, f64)> = None;
     for (step, (strain, loading)) in path.into_iter().enumerate() {
         let h = h0 * (1.0 - strain);
         sys.set_platen(h);
+        let last = records.last().map(|r| (r.height, r.loading));
+        let x_last = x.to_vec();
         let cost = if let Some(s) = saved.get(step) {
             x.copy_from_slice(&s.x);
             s.cost
         } else if step == 0 {
             Cost::default()
         } else {
-            push_below(sys, x);
+            match (&before, last) {
+                (Some((x_before, h_before)), Some((h_last, loading_last)))
+                    if loading_last == loading && h_last != *h_before =>
+                {
+                    secant_start(sys, x, x_before, (h - h_last) / (h_last - h_before))
+                }
+                _ => push_below(sys, x),
+            }
             sys.solve(x, solver)
                 .map_err(|source| DriveError::Step {
                     step,
@@ -163,9 +174,30 @@ pub fn compress(
             cost,
         };
         observe(&rec, x);
+        before = last.map(|(h_last, _)| (x_last, h_last));
         records.push(rec);
     }
     Ok(records)
+}
+
+/// Secant predictor along the drive: the configuration extrapolated linearly in the platen
+/// height from the last two equilibria, x + r (x − x_before) with r = Δh_next/Δh_last, replaces
+/// the plain start (`x` with [`push_below`]) when its energy is lower. On a smooth branch this
+/// starts Newton next to the solution; where the branch snaps (contacts forming, tubes
+/// buckling) the extrapolation can be worse, and the plain start is kept.
+fn secant_start(sys: &mut TurfSystem, x: &mut [f64], x_before: &[f64], r: f64) {
+    let mut predicted: Vec<f64> = x
+        .iter()
+        .zip(x_before)
+        .map(|(a, b)| a + r * (a - b))
+        .collect();
+    push_below(sys, x);
+    push_below(sys, &mut predicted);
+    let e_plain = sys.energy(x);
+    let e_predicted = sys.energy(&predicted);
+    if e_predicted.is_finite() && e_predicted < e_plain {
+        x.copy_from_slice(&predicted);
+    }
 }
 
 /// Predictor: free nodes inside the platen (flat or sphere) are moved straight down to just

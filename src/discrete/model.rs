@@ -277,6 +277,13 @@ impl TurfSystem {
         }
     }
 
+    /// Total energy at `x`, aJ (brings the neighbour list up to date).
+    pub fn energy(&mut self, x: &[f64]) -> f64 {
+        self.model.prepare(x);
+        let mut scratch = vec![0.0; x.len()];
+        self.model.energy_gradient(x, &mut scratch)
+    }
+
     /// Solve for equilibrium from `x` (solution on return).
     pub fn solve(&mut self, x: &mut [f64], solver: &StaticSolver) -> Result<Info, SolveError> {
         solver.solve(&mut self.model, &self.fixed, x)

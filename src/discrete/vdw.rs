@@ -67,7 +67,7 @@ impl Default for VdwParams {
             law: LjKind::Lj93,
             gap_switch: 1.0,
             gap_cut: 2.5,
-            panel_fraction: 0.5,
+            panel_fraction: 0.75,
             gauss_order: 4,
             skin: 1.0,
             self_exclusion_factor: PI / 2.0,
