@@ -5,16 +5,14 @@
 //! Env `C0` (Newton's damping coefficient, GPa·s/nm), `ZONE` (smallest element, nm), `INC`
 //! (increments per segment), `ONLY=riks` (skip the Newton run), `CSV` (write both runs' rows
 //! under this folder), `CONTRACTION` (the corrector's modified-Newton contraction factor) and
-//! `RIKS_INC` (the arc-length run's increments per segment, its step cap), `NEOHOOKE=1` (the
-//! solid as a one-term hyperfoam with α = 2, β = 0, μ = E*/2: the compressible neo-Hookean with
-//! the same small-strain moduli, which has no compressive limit point, unlike St Venant–Kirchhoff).
+//! `RIKS_INC` (the arc-length run's increments per segment, its step cap), `LOG=1` (every
+//! converged row on stderr: segment, δ/z₀, P/(πγR), iterations, wall seconds). At finite kinematics
+//! the solid is `tabor_sphere`'s compressible neo-Hookean (hyperfoam α = 2, β = 0, μ = E*/2).
 
 use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
 use turf::continuum::element::Kinematics;
-use turf::continuum::events::{curve_distance, spring_pull_off};
+use turf::continuum::events::{curve_distance, dissipation_split, spring_pull_off};
 use turf::continuum::indent::Method;
-use turf::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
-use turf::continuum::material::Elastic;
 use turf::continuum::{run_indent, IndentParams, IndentResult};
 use turf::halfspace::{trace_curve, HalfspaceParams, Problem};
 use turf::laws::LjKind;
@@ -22,8 +20,27 @@ use turf::laws::LjKind;
 /// Machine stiffnesses K z₀/(πγR) of the table (∞: displacement control; load control last).
 const STIFFNESSES: [f64; 9] = [f64::INFINITY, 30.0, 10.0, 3.0, 1.0, 0.5, 0.3, 0.1, 0.03];
 
-fn run(p: &IndentParams) -> IndentResult {
-    match run_indent(p, &mut |_| {}) {
+/// Rows within this distance of the traced curve (scaled δ/z₀, P/(πγR)) count as on a stable
+/// branch when the damping dissipation is split: the 1 % of the curves' agreement.
+const ON_BRANCH: f64 = 0.01;
+
+fn run(p: &IndentParams, scale: f64) -> IndentResult {
+    let log = std::env::var("LOG").is_ok_and(|v| v == "1");
+    let z0 = p.adhesion.map_or(1.0, |a| a.law.z0());
+    let t0 = std::time::Instant::now();
+    let mut progress = |q: &turf::continuum::indent::Progress| {
+        if log {
+            eprintln!(
+                "  seg {} δ/z0 {:.5} P/(πγR) {:.5} its {} t {:.1} s",
+                q.segment,
+                q.row.depth_nm / z0,
+                q.row.load_nN / scale,
+                q.row.iterations,
+                t0.elapsed().as_secs_f64()
+            );
+        }
+    };
+    match run_indent(p, &mut progress) {
         Ok(r) => r,
         Err(turf::continuum::FeError::Stopped(r)) => {
             eprintln!("stopped: {:?}", r.failure);
@@ -47,16 +64,6 @@ fn main() {
     };
     let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<f64>().ok());
     let mut newton = tabor_sphere(mu, rz, kind, kin);
-    if std::env::var("NEOHOOKE").is_ok_and(|v| v == "1") {
-        let (e, _) = newton.material.elastic.initial_moduli();
-        newton.material.elastic = Elastic::Hyperfoam(Hyperfoam {
-            terms: vec![HyperfoamTerm {
-                mu: 0.5 * e,
-                alpha: 2.0,
-                beta: 0.0,
-            }],
-        });
-    }
     if let Some(h) = env("ZONE") {
         newton.mesh.smallest = Some(h);
     }
@@ -81,7 +88,7 @@ fn main() {
     }
     let scale = std::f64::consts::PI * newton.adhesion.unwrap().law.gamma() * rz;
     let only_riks = std::env::var("ONLY").is_ok_and(|v| v == "riks");
-    let traced = run(&riks);
+    let traced = run(&riks, scale);
     let s = traced.summary();
     println!(
         "mu {mu} {kind:?} R/z0 {rz} {kin:?}: {} elements, h0 {:.3} nm",
@@ -153,9 +160,16 @@ fn main() {
     if only_riks {
         return;
     }
-    let stepped = run(&newton);
+    let stepped = run(&newton, scale);
     let n = stepped.summary();
     let (worst, at, compared) = curve_distance(&stepped.rows, &traced.rows, z0, scale);
+    let (on, off) = dissipation_split(&stepped.rows, &traced.rows, z0, scale, ON_BRANCH);
+    println!(
+        "  newton damping on the stable branches (rows within {ON_BRANCH} of the Riks curve) {on:.3e} aJ ({:.3} % of the strain energy), off them (jumps) {off:.3e} aJ; cycle work ∮P dδ: newton {:.3e} aJ, riks {:.3e} aJ",
+        100.0 * on / n.max_strain_energy_aJ,
+        cycle_work(&stepped.rows),
+        cycle_work(&traced.rows)
+    );
     println!(
         "  newton: pull-off {:.4}; jump-in at δ {:?}, jump-out at δ {:?} P {:?}; damping {:.3e} aJ / strain {:.3e} aJ ({:.3} %); {} increments, {} cutbacks, wall {:.1} s",
         normalised_pull_off(&stepped).unwrap_or(f64::NAN),
@@ -179,4 +193,12 @@ fn main() {
             .write(&std::path::Path::new(&dir).join("newton"))
             .unwrap();
     }
+}
+
+/// The work ∮P dδ done on the solid over the rows (trapezoidal): over a closed cycle of an
+/// elastic solid, the energy dissipated (by damping and by the time stepping).
+fn cycle_work(rows: &[turf::continuum::indent::Row]) -> f64 {
+    rows.windows(2)
+        .map(|w| 0.5 * (w[0].load_nN + w[1].load_nN) * (w[1].depth_nm - w[0].depth_nm))
+        .sum()
 }

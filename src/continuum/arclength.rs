@@ -31,7 +31,6 @@ use super::element::Kinematics;
 use super::indent::{snapshot, IndentParams, IndentResult, Progress, Row, Segment};
 use super::machine::Machine;
 use super::newton::{converged, norm, NewtonParams};
-use crate::numerics::sparse::Factor;
 use serde::{Deserialize, Serialize};
 
 /// Arc-length parameters.
@@ -206,7 +205,8 @@ impl Curve<'_> {
         let mut residuals = Vec::new();
         let mut b = Vec::new();
         let mut iteration = 0;
-        let mut factor: Option<Factor> = None;
+        // true once this corrector has factorised (the assembler keeps the factorisation)
+        let mut factored = false;
         // true if the last correction used a factorisation of the tangent where it was taken
         let mut fresh = true;
         loop {
@@ -238,21 +238,16 @@ impl Curve<'_> {
             }
             let k = residuals.len();
             let contracting = k > 1 && rn <= self.contraction * residuals[k - 2];
-            fresh = !(contracting && factor.is_some());
+            fresh = !(contracting && factored);
             if fresh {
-                factor = Some(self.asm.factor(&ev.values).map_err(|e| e.to_string())?);
+                self.asm.factor(&ev.values).map_err(|e| e.to_string())?;
+                factored = true;
             }
-            let factor = factor
-                .as_ref()
-                .expect("a factorisation was just made or kept");
             let minus_r: Vec<f64> = r.iter().map(|v| -v).collect();
-            let a = self
-                .asm
-                .back_solve(factor, &minus_r)
-                .map_err(|e| e.to_string())?;
+            let a = self.asm.back_solve(&minus_r).map_err(|e| e.to_string())?;
             b = self
                 .asm
-                .back_solve(factor, &ev.load_gradient)
+                .back_solve(&ev.load_gradient)
                 .map_err(|e| e.to_string())?;
             let (ca, cb) = c_u.map_or((0.0, 0.0), |cu| (dot(cu, &a), dot(cu, &b)));
             let schur = c_d - cb;

@@ -12,7 +12,7 @@ use super::element::{self, Geometry, Kinematics, StepContext};
 use super::material::{Material, Voigt};
 use super::mesh::Mesh;
 use super::FeError;
-use crate::numerics::sparse::{Factor, SparseError, SparseSystem};
+use crate::numerics::sparse::{SparseError, SparseSystem};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -309,8 +309,9 @@ impl Assembler {
     }
 
     /// Factorise K: Cholesky, or LU when K is not positive definite (beyond a limit point of
-    /// the depth, K at fixed depth is indefinite).
-    pub fn factor(&mut self, values: &[f64]) -> Result<Factor, FeError> {
+    /// the depth, K at fixed depth is indefinite). The factorisation is kept for
+    /// [`Assembler::back_solve`] until the next one.
+    pub fn factor(&mut self, values: &[f64]) -> Result<(), FeError> {
         let t0 = Instant::now();
         let out = match self.system.factor_spd(values) {
             Err(SparseError::NotPositiveDefinite) => {
@@ -324,10 +325,10 @@ impl Assembler {
         Ok(out?)
     }
 
-    /// Solve K d = rhs with a factorisation from [`Assembler::factor`].
-    pub fn back_solve(&mut self, factor: &Factor, rhs: &[f64]) -> Result<Vec<f64>, FeError> {
+    /// Solve K d = rhs with the last factorisation of [`Assembler::factor`].
+    pub fn back_solve(&mut self, rhs: &[f64]) -> Result<Vec<f64>, FeError> {
         let t0 = Instant::now();
-        let out = factor.solve(rhs);
+        let out = self.system.solve(rhs);
         self.stats.solves += 1;
         self.stats.solve_s += t0.elapsed().as_secs_f64();
         Ok(out?)

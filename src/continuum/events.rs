@@ -81,6 +81,27 @@ pub fn jumping(a: &Row, b: &Row) -> bool {
     dg.abs() > JUMP_RATIO * (b.drive_nm - a.drive_nm).abs() && dg != 0.0
 }
 
+/// The distance of row `r` from the polyline of `traced` in the plane (drive/`length`,
+/// load/`force`); infinite for a traced curve of fewer than two rows.
+fn distance_from(r: &Row, traced: &[Row], length: f64, force: f64) -> f64 {
+    let xy = |r: &Row| (r.drive_nm / length, r.load_nN / force);
+    let p = xy(r);
+    traced
+        .windows(2)
+        .map(|w| {
+            let (a, b) = (xy(&w[0]), xy(&w[1]));
+            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+            let len2 = dx * dx + dy * dy;
+            let f = if len2 > 0.0 {
+                (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (p.0 - a.0 - f * dx).hypot(p.1 - a.1 - f * dy)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// How far a curve stepped by Newton (`stepped`, its jump increments left out) lies from one
 /// traced by arc-length (`traced`): the largest distance of a stepped row from the traced
 /// polyline in the plane (drive/`length`, load/`force`), with that row and the number of rows
@@ -92,27 +113,12 @@ pub fn curve_distance(
     length: f64,
     force: f64,
 ) -> (f64, Option<Row>, usize) {
-    let xy = |r: &Row| (r.drive_nm / length, r.load_nN / force);
     let (mut worst, mut at, mut compared) = (0.0f64, None, 0);
     for (i, r) in stepped.iter().enumerate() {
         if i > 0 && jumping(&stepped[i - 1], r) {
             continue;
         }
-        let p = xy(r);
-        let nearest = traced
-            .windows(2)
-            .map(|w| {
-                let (a, b) = (xy(&w[0]), xy(&w[1]));
-                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-                let len2 = dx * dx + dy * dy;
-                let f = if len2 > 0.0 {
-                    (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                (p.0 - a.0 - f * dx).hypot(p.1 - a.1 - f * dy)
-            })
-            .fold(f64::INFINITY, f64::min);
+        let nearest = distance_from(r, traced, length, force);
         if nearest.is_finite() {
             compared += 1;
             if nearest > worst {
@@ -122,6 +128,27 @@ pub fn curve_distance(
         }
     }
     (worst, at, compared)
+}
+
+/// Where a damped run dissipated its damping energy: (on the stable branches, off them), aJ.
+/// An increment is on a branch if the row it ends at lies within `tol` of the `traced` curve
+/// (in the scaled plane of [`curve_distance`]); the others are the jumps and the viscous
+/// relaxation after them, where the state is off the equilibrium curve.
+pub fn dissipation_split(
+    stepped: &[Row],
+    traced: &[Row],
+    length: f64,
+    force: f64,
+    tol: f64,
+) -> (f64, f64) {
+    stepped.windows(2).fold((0.0, 0.0), |(on, off), w| {
+        let d = w[1].damping_dissipated_aJ - w[0].damping_dissipated_aJ;
+        if distance_from(&w[1], traced, length, force) <= tol {
+            (on + d, off)
+        } else {
+            (on, off + d)
+        }
+    })
 }
 
 /// The pull-off through a machine spring of stiffness `k` from a traced curve: along `path`,
@@ -326,6 +353,26 @@ mod tests {
         assert!((d - 1.0).abs() < 1e-15 && at.unwrap().drive_nm == 3.0 && n == 2);
         let (d, _, _) = curve_distance(&stepped[..1], &traced, 1.0, 2.0);
         assert!((d - 0.5 / 1.25f64.sqrt()).abs() < 1e-15, "{d}");
+    }
+
+    #[test]
+    fn dissipation_is_split_by_the_distance_from_the_traced_curve() {
+        let traced = vec![row(0, 0.0, 1.0, 0.0), row(0, 2.0, 1.0, 2.0)];
+        let mut stepped = vec![
+            row(0, 0.5, 1.0, 0.5),
+            row(0, 1.0, 1.0, 1.0),
+            row(0, 1.0, 0.2, 1.5),
+            row(0, 1.5, 0.2, 1.75),
+        ];
+        for (r, w) in stepped.iter_mut().zip([0.0, 1.0, 11.0, 111.0]) {
+            r.damping_dissipated_aJ = w;
+        }
+        // on the curve: 0.5 → 1 (1 aJ); off it (0.354 and 0.177 away): 10 + 100 aJ
+        let (on, off) = dissipation_split(&stepped, &traced, 1.0, 1.0, 0.01);
+        assert_eq!((on, off), (1.0, 110.0));
+        // a tolerance of 0.3 takes in the last row (0.177 away), not the jump (0.354)
+        let (on, off) = dissipation_split(&stepped, &traced, 1.0, 1.0, 0.3);
+        assert_eq!((on, off), (101.0, 10.0));
     }
 
     #[test]

@@ -1,16 +1,28 @@
-//! Sparse linear solves through faer, with the symbolic analysis reused across Newton iterations.
+//! Sparse linear solves through faer, with the symbolic analysis and the numeric storage reused
+//! across Newton iterations.
 //!
 //! An engine describes its matrix once by the (row, col) positions of its entries — duplicates
-//! allowed, they are summed — and then solves repeatedly with new values in the same order.
+//! allowed, they are summed — and then factorises repeatedly with new values in the same order.
 //! Cholesky (`Side::Lower`, so only entries with row ≥ col are read) for symmetric positive
 //! definite systems; LU for indefinite ones (bordered arc-length systems), since faer's sparse
-//! LDLᵀ is unreliable on saddle points (see `CRATES.md`). This module is the only one that
-//! calls faer's sparse API.
+//! LDLᵀ is unreliable on saddle points (see `CRATES.md`). The system keeps its last numeric
+//! factorisation, so one factorisation serves several right-hand sides (the two solves of a
+//! bordered system), and it keeps the storage of the factor, of the assembled values and of
+//! faer's workspace from one factorisation to the next: nothing of the size of the factor is
+//! allocated (and page-faulted in) again. The factorisation runs on one thread (`Par::Seq`):
+//! on the shared 2-core machine faer's rayon factorisation cost 1.6× the CPU of the sequential
+//! one for the same result (docs/benchmarks.md). This module is the only one that calls faer's
+//! sparse API.
 
-use faer::prelude::Solve;
-use faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
-use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Mat, Side};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, MatMut, Par, Side};
+
+/// The parallelism of the factorisations and solves (see the module doc).
+const PAR: Par = Par::Seq;
 
 /// Why a sparse solve failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -35,41 +47,80 @@ pub enum SparseError {
     /// LU met a zero pivot
     #[error("sparse LU: matrix singular")]
     Singular,
+    /// a solve was asked for with no successful factorisation to use
+    #[error("sparse solve: no factorisation")]
+    NoFactor,
+    /// faer could not allocate its workspace
+    #[error("sparse factorisation: {0}")]
+    Memory(String),
 }
 
-/// A fixed sparsity pattern with its cached symbolic factorisations.
+/// Which numeric factorisation the system holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Held {
+    None,
+    Llt,
+    Lu,
+}
+
+/// A fixed sparsity pattern with its cached symbolic factorisations, the storage of its numeric
+/// factorisations and the last of them.
 pub struct SparseSystem {
     n: usize,
-    entries: usize,
+    /// the matrix's compressed-column pattern (rows sorted, duplicates merged)
     symbolic: SymbolicSparseColMat<usize>,
-    argsort: Argsort<usize>,
-    llt: Option<SymbolicLlt<usize>>,
+    /// for each given entry, its index in the compressed values
+    slot: Vec<usize>,
+    /// the compressed values of the last matrix
+    values: Vec<f64>,
+    llt: Option<SymbolicCholesky<usize>>,
+    llt_values: Vec<f64>,
     lu: Option<SymbolicLu<usize>>,
+    lu_numeric: NumericLu<usize, f64>,
+    held: Held,
+    workspace: MemBuffer,
 }
 
 impl SparseSystem {
     /// Pattern of an `n × n` matrix from the positions of its entries, in the order the values
     /// will later be given.
     pub fn new(n: usize, positions: &[(usize, usize)]) -> Result<Self, SparseError> {
-        let pairs: Vec<Pair<usize, usize>> = positions
-            .iter()
-            .map(|&(row, col)| Pair { row, col })
-            .collect();
         if let Some(p) = positions.iter().find(|&&(r, c)| r >= n || c >= n) {
             return Err(SparseError::Pattern(format!(
                 "entry ({}, {}) outside a {n}×{n} matrix",
                 p.0, p.1
             )));
         }
-        let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
-            .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
+        let mut order: Vec<usize> = (0..positions.len()).collect();
+        order.sort_unstable_by_key(|&k| (positions[k].1, positions[k].0));
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = Vec::with_capacity(positions.len());
+        let mut slot = vec![0usize; positions.len()];
+        let mut last = None;
+        for &k in &order {
+            let (row, col) = positions[k];
+            if last != Some((row, col)) {
+                row_idx.push(row);
+                col_ptr[col + 1] += 1;
+                last = Some((row, col));
+            }
+            slot[k] = row_idx.len() - 1;
+        }
+        for c in 0..n {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let nnz = row_idx.len();
         Ok(SparseSystem {
             n,
-            entries: positions.len(),
-            symbolic,
-            argsort,
+            symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+            slot,
+            values: vec![0.0; nnz],
             llt: None,
+            llt_values: Vec::new(),
             lu: None,
+            lu_numeric: NumericLu::new(),
+            held: Held::None,
+            workspace: MemBuffer::new(StackReq::empty()),
         })
     }
 
@@ -78,92 +129,148 @@ impl SparseSystem {
         self.n
     }
 
-    fn matrix(&self, values: &[f64]) -> Result<SparseColMat<usize, f64>, SparseError> {
-        if values.len() != self.entries {
+    /// Sum the given values into the compressed matrix.
+    fn load(&mut self, values: &[f64]) -> Result<(), SparseError> {
+        self.held = Held::None;
+        if values.len() != self.slot.len() {
             return Err(SparseError::Length {
-                expected: self.entries,
+                expected: self.slot.len(),
                 got: values.len(),
             });
         }
         if !values.iter().all(|v| v.is_finite()) {
             return Err(SparseError::NonFinite);
         }
-        SparseColMat::new_from_argsort(self.symbolic.clone(), &self.argsort, values)
-            .map_err(|e| SparseError::Pattern(format!("{e:?}")))
+        self.values.iter_mut().for_each(|v| *v = 0.0);
+        for (&s, &v) in self.slot.iter().zip(values) {
+            self.values[s] += v;
+        }
+        Ok(())
     }
 
-    /// Factorise a symmetric positive-definite matrix by Cholesky (lower triangle read).
-    pub fn factor_spd(&mut self, values: &[f64]) -> Result<Factor, SparseError> {
-        let a = self.matrix(values)?;
+    /// Grow (never shrink) the workspace to hold `req`.
+    fn reserve(&mut self, req: StackReq) -> Result<(), SparseError> {
+        if !MemStack::new(&mut self.workspace).can_hold(req) {
+            self.workspace =
+                MemBuffer::try_new(req).map_err(|e| SparseError::Memory(format!("{e:?}")))?;
+        }
+        Ok(())
+    }
+
+    /// Factorise a symmetric positive-definite matrix by Cholesky (lower triangle read); the
+    /// factorisation is kept for [`SparseSystem::solve`].
+    pub fn factor_spd(&mut self, values: &[f64]) -> Result<(), SparseError> {
+        self.load(values)?;
         if self.llt.is_none() {
-            let sym = SymbolicLlt::try_new(a.symbolic(), Side::Lower)
-                .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
+            let sym = factorize_symbolic_cholesky(
+                self.symbolic.as_ref(),
+                Side::Lower,
+                Default::default(),
+                Default::default(),
+            )
+            .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
+            self.llt_values = vec![0.0; sym.len_val()];
             self.llt = Some(sym);
         }
-        let sym = self.llt.clone().expect("symbolic Cholesky just built");
-        let llt = Llt::try_new_with_symbolic(sym, a.as_ref(), Side::Lower)
-            .map_err(|_| SparseError::NotPositiveDefinite)?;
-        Ok(Factor {
-            n: self.n,
-            kind: Kind::Llt(llt),
-        })
+        let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
+        let req = sym
+            .factorize_numeric_llt_scratch::<f64>(PAR, Default::default())
+            .or(sym.solve_in_place_scratch::<f64>(1, PAR));
+        self.reserve(req)?;
+        let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
+        sym.factorize_numeric_llt(
+            &mut self.llt_values,
+            SparseColMatRef::new(self.symbolic.as_ref(), &self.values),
+            Side::Lower,
+            LltRegularization::default(),
+            PAR,
+            MemStack::new(&mut self.workspace),
+            Default::default(),
+        )
+        .map_err(|_| SparseError::NotPositiveDefinite)?;
+        self.held = Held::Llt;
+        Ok(())
     }
 
-    /// Factorise a general (possibly indefinite) matrix by LU with partial pivoting.
-    pub fn factor_lu(&mut self, values: &[f64]) -> Result<Factor, SparseError> {
-        let a = self.matrix(values)?;
+    /// Factorise a general (possibly indefinite) matrix by LU with partial pivoting; the
+    /// factorisation is kept for [`SparseSystem::solve`].
+    pub fn factor_lu(&mut self, values: &[f64]) -> Result<(), SparseError> {
+        self.load(values)?;
         if self.lu.is_none() {
-            let sym = SymbolicLu::try_new(a.symbolic())
+            let sym = factorize_symbolic_lu(self.symbolic.as_ref(), Default::default())
                 .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
             self.lu = Some(sym);
         }
-        let sym = self.lu.clone().expect("symbolic LU just built");
-        let lu = Lu::try_new_with_symbolic(sym, a.as_ref()).map_err(|_| SparseError::Singular)?;
-        Ok(Factor {
-            n: self.n,
-            kind: Kind::Lu(Box::new(lu)),
-        })
+        let sym = self.lu.as_ref().expect("symbolic LU just built");
+        let req = sym
+            .factorize_numeric_lu_scratch::<f64>(PAR, Default::default())
+            .or(sym.solve_in_place_scratch::<f64>(1, PAR));
+        self.reserve(req)?;
+        let sym = self.lu.as_ref().expect("symbolic LU just built");
+        sym.factorize_numeric_lu(
+            &mut self.lu_numeric,
+            SparseColMatRef::new(self.symbolic.as_ref(), &self.values),
+            PAR,
+            MemStack::new(&mut self.workspace),
+            Default::default(),
+        )
+        .map_err(|_| SparseError::Singular)?;
+        self.held = Held::Lu;
+        Ok(())
+    }
+
+    /// True if the factorisation held is an LU (the matrix was not positive definite).
+    pub fn is_lu(&self) -> bool {
+        self.held == Held::Lu
+    }
+
+    /// Solve A x = rhs with the factorisation held (the last successful `factor_*` since the
+    /// last failed one).
+    pub fn solve(&mut self, rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
+        check_rhs(self.n, rhs)?;
+        let mut x = rhs.to_vec();
+        let n = self.n;
+        let b = MatMut::from_column_major_slice_mut(&mut x, n, 1);
+        match self.held {
+            Held::None => return Err(SparseError::NoFactor),
+            Held::Llt => {
+                let sym = self.llt.as_ref().expect("a Cholesky factorisation is held");
+                LltRef::new(sym, &self.llt_values).solve_in_place_with_conj(
+                    Conj::No,
+                    b,
+                    PAR,
+                    MemStack::new(&mut self.workspace),
+                );
+            }
+            Held::Lu => {
+                let sym = self.lu.as_ref().expect("an LU factorisation is held");
+                LuRef::new_unchecked(sym, &self.lu_numeric).solve_in_place_with_conj(
+                    Conj::No,
+                    b,
+                    PAR,
+                    MemStack::new(&mut self.workspace),
+                );
+            }
+        }
+        if x.iter().all(|v| v.is_finite()) {
+            Ok(x)
+        } else {
+            Err(SparseError::Singular)
+        }
     }
 
     /// Solve a symmetric positive-definite system by Cholesky (lower triangle read).
     pub fn solve_spd(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
         check_rhs(self.n, rhs)?;
-        self.factor_spd(values)?.solve(rhs)
+        self.factor_spd(values)?;
+        self.solve(rhs)
     }
 
     /// Solve a general (possibly indefinite) system by LU with partial pivoting.
     pub fn solve_lu(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
         check_rhs(self.n, rhs)?;
-        self.factor_lu(values)?.solve(rhs)
-    }
-}
-
-enum Kind {
-    Llt(Llt<usize, f64>),
-    Lu(Box<Lu<usize, f64>>),
-}
-
-/// A numeric factorisation, kept to solve several right-hand sides with one matrix (the two
-/// solves of a bordered system).
-pub struct Factor {
-    n: usize,
-    kind: Kind,
-}
-
-impl Factor {
-    /// True if this is an LU factorisation (the matrix was not positive definite).
-    pub fn is_lu(&self) -> bool {
-        matches!(self.kind, Kind::Lu(_))
-    }
-
-    /// Solve A x = rhs.
-    pub fn solve(&self, rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
-        check_rhs(self.n, rhs)?;
-        let b = column(rhs);
-        finite_solution(match &self.kind {
-            Kind::Llt(f) => f.solve(b),
-            Kind::Lu(f) => f.solve(b),
-        })
+        self.factor_lu(values)?;
+        self.solve(rhs)
     }
 }
 
@@ -178,19 +285,6 @@ fn check_rhs(n: usize, rhs: &[f64]) -> Result<(), SparseError> {
         return Err(SparseError::NonFinite);
     }
     Ok(())
-}
-
-fn column(v: &[f64]) -> Mat<f64> {
-    Mat::from_fn(v.len(), 1, |i, _| v[i])
-}
-
-fn finite_solution(x: Mat<f64>) -> Result<Vec<f64>, SparseError> {
-    let out: Vec<f64> = (0..x.nrows()).map(|i| x[(i, 0)]).collect();
-    if out.iter().all(|v| v.is_finite()) {
-        Ok(out)
-    } else {
-        Err(SparseError::Singular)
-    }
 }
 
 #[cfg(test)]
@@ -237,12 +331,19 @@ mod tests {
         let y = sys.solve_lu(&val, &b).unwrap();
         assert!(residual(&pos, &val, &y, &b) < 1e-9);
         // one numeric factorisation, several right-hand sides
-        let f = sys.factor_spd(&val).unwrap();
+        sys.factor_spd(&val).unwrap();
+        assert!(!sys.is_lu());
         let c: Vec<f64> = (0..n).map(|i| (i as f64 * 0.11).cos()).collect();
         for rhs in [&b, &c] {
-            assert!(residual(&pos, &val, &f.solve(rhs).unwrap(), rhs) < 1e-9);
+            assert!(residual(&pos, &val, &sys.solve(rhs).unwrap(), rhs) < 1e-9);
         }
-        assert!(!f.is_lu() && sys.factor_lu(&val).unwrap().is_lu());
+        sys.factor_lu(&val2).unwrap();
+        assert!(sys.is_lu());
+        assert!(residual(&pos, &val2, &sys.solve(&c).unwrap(), &c) < 1e-9);
+        // a failed factorisation leaves nothing to solve with
+        let bad: Vec<f64> = val.iter().map(|v| -v).collect();
+        assert_eq!(sys.factor_spd(&bad), Err(SparseError::NotPositiveDefinite));
+        assert_eq!(sys.solve(&b), Err(SparseError::NoFactor));
     }
 
     #[test]
