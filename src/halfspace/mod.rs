@@ -28,7 +28,7 @@
 //! **Solution.** Newton on the bordered system (gaps H_i and the approach D) with a last
 //! equation that prescribes H(0), D or a pseudo-arclength step ([`solve`]); pseudo-arclength
 //! (Keller) continuation traces the whole S-curve through every fold of D, of the load and of
-//! H(0) ([`curve`]). Pull-off (the last load minimum, i.e. the load-control pull-off) and the
+//! H(0) ([`curve`]). Pull-off (the deepest load minimum, i.e. the load-control pull-off) and the
 //! jump points (first maximum and last minimum of D: jump-in on approach and jump-out on
 //! retraction under displacement control) are located by the secant (Illinois) method on dF̄/ds
 //! and dD/ds, computed exactly from the unit tangent of the solution path. [`refinement`] repeats
