@@ -168,6 +168,20 @@ def mesh_parser(doc, per_radius, ratio, workdir):
     return ap
 
 
+def run_record(a, elements, n_spec, nodes, wall):
+    """The fields every CalculiX peer reports: mesh, block and cost."""
+    return {
+        "peer": "calculix",
+        "elements": elements,
+        "specimen_elements": n_spec,
+        "nodes": nodes,
+        "per_radius": a.per_radius,
+        "ratio": a.ratio,
+        "block_over_a": a.block,
+        "wall_time_s": wall,
+    }
+
+
 def main():
     a = mesh_parser(__doc__, 20.0, 1.15, "/tmp/turf_peer_ccx").parse_args()
     work = Path(a.workdir)
@@ -177,14 +191,7 @@ def main():
     # reaction on the indenter's top (opposes the imposed downward motion): load = -RF_y
     load = -180.0 * total_reactions(work / "hertz.dat")[-1][1]
     print(json.dumps({
-        "peer": "calculix",
-        "elements": elements,
-        "specimen_elements": n_spec,
-        "nodes": nodes,
-        "per_radius": a.per_radius,
-        "ratio": a.ratio,
-        "block_over_a": a.block,
-        "wall_time_s": wall,
+        **run_record(a, elements, n_spec, nodes, wall),
         "load_nN": load,
         "hertz_nN": P_HERTZ,
         "error_relative": (load - P_HERTZ) / P_HERTZ,

@@ -16,7 +16,7 @@ Usage: python hyperfoam.py [--per-radius 10] [--ratio 1.2] [--block 200] [--work
 import json
 from pathlib import Path
 
-from hertz import R, mesh_parser, run_ccx, total_reactions, write_input
+from hertz import R, mesh_parser, run_ccx, run_record, total_reactions, write_input
 
 DEPTH, MU, ALPHA = 100.0, 0.35, 18.8  # nm, GPa (CalculiX's μ_i is turf's), –
 
@@ -41,16 +41,9 @@ def main():
     wall = run_ccx(work, "foam")
     curve = [(t * DEPTH, -180.0 * ry) for t, ry in total_reactions(work / "foam.dat")]
     print(json.dumps({
-        "peer": "calculix",
+        **run_record(a, elements, n_spec, nodes, wall),
         "problem": "hyperfoam_sphere",
-        "elements": elements,
-        "specimen_elements": n_spec,
-        "nodes": nodes,
-        "per_radius": a.per_radius,
-        "ratio": a.ratio,
-        "block_over_a": a.block,
         "radius_nm": R,
-        "wall_time_s": wall,
         "depth_nm": [d for d, _ in curve],
         "load_nN": [p for _, p in curve],
     }))
