@@ -20,7 +20,8 @@
 //! **Discretisation.** Piecewise-constant ring pressures on a graded radial grid ([`grid`]),
 //! collocated at the nodes, with exact ring influence coefficients from complete elliptic
 //! integrals ([`influence`], [`elliptic`]). The grid is fine over the contact edge (a window that
-//! moves with it at large μ, rebuilt as the edge moves) and wherever the gap is small. The domain
+//! moves with it at large μ, rebuilt as the edge moves) and wherever a ring could jump on its own
+//! (gaps between the peak tension and 3z₀); the contact interior is graded. The domain
 //! is truncated where the neglected attractive tail carries a load below
 //! `Params::tail_tolerance`; the remaining tail (estimated as 2φ̄(H) at the outer edge) is
 //! reported.

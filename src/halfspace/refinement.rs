@@ -7,9 +7,11 @@
 //! the gap at the edge beyond H_tail, where the rigid tail load 2|φ̄(H_tail)| is below
 //! `tail_tolerance`, after allowing for the approach.
 //!
-//! The pull-off is then recomputed on three grids, uniform from the centre to a little beyond
-//! the contact radius at pull-off (a grid fine only near the edge, coarse inside, made Newton
-//! fail on the transfer at μ = 3), each with all cells smaller by `refinement_ratio` (r). On
+//! The pull-off is then recomputed on three grids, uniform over the edge at pull-off (where the
+//! gap opens through the peak tension, [`soft_band`]) ± (2ℓ + 2 % of its radius) and over every
+//! radius whose ring could jump on its own, graded inside the contact and outside (a grid uniform
+//! over the whole contact took ≈ 3000 nodes at μ = 10), each with all cells smaller by
+//! `refinement_ratio` (r). On
 //! each grid the minimum of F̄ is found by a secant search on dF̄/dD from the previous grid's
 //! solution; if that fails, the whole curve is traced on that grid instead. With values F₁, F₂, F₃ the observed
 //! order is p = ln((F₂ − F₁)/(F₃ − F₂))/ln r, and the Richardson error estimate of F₃ is
@@ -46,8 +48,9 @@ fn outer_radius<T: Traction>(problem: &Problem<T>, mu: f64, params: &HalfspacePa
 /// 1.2 × the JKR radius at zero load, ρ₀ = (9π/2)^{1/3} μ^{1/2}, and at least 3) when that zone
 /// is at most `window_zones` ℓ wide (then `edge` and `near` are ignored); otherwise (large μ)
 /// over a window of that width from 40 % of it behind the edge to 60 % ahead (the edge grows
-/// along the trace), extended out to `near` (where the gap is still small,
-/// [`super::curve::NEAR_GAP`]), graded towards the centre and outwards.
+/// along the trace), extended out to `near`; `edge` and `near` are the ends of the band of rings
+/// that could jump on their own ([`super::curve::soft_band`]). Graded towards the centre and
+/// outwards.
 pub fn trace_grid<T: Traction>(
     problem: &Problem<T>,
     params: &HalfspaceParams,
