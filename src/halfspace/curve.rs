@@ -15,8 +15,9 @@
 //!
 //! **Special points**, in the order the retraction meets them (the trace runs from far away into
 //! contact): jump-in on approach under displacement control is the first maximum of D; jump-out
-//! on retraction under displacement control is the last minimum of D; pull-off under load control
-//! is the last minimum of F̄ (on a converged grid each is unique). Each is located by the Illinois
+//! on retraction under displacement control is the deepest minimum of D; pull-off under load control
+//! is the deepest minimum of F̄ (on a converged grid each is unique; a coarse grid can add shallow
+//! lattice folds of the load, which the deepest minimum ignores). Each is located by the Illinois
 //! (modified regula falsi) method on dD/ds or dF̄/ds against the arclength measured along the
 //! tangent of one end of the bracketing step.
 //!
@@ -60,9 +61,9 @@ pub struct Curve {
     /// jump-to-contact on approach under displacement control (first maximum of D); `None`
     /// when the curve has no S (small μ)
     pub jump_in: Option<CurvePoint>,
-    /// jump-out on retraction under displacement control (the last minimum of D)
+    /// jump-out on retraction under displacement control (the deepest minimum of D)
     pub jump_out: Option<CurvePoint>,
-    /// pull-off under load control (the last minimum of the load)
+    /// pull-off under load control (the deepest minimum of the load)
     pub pull_off: CurvePoint,
     /// nodes of the grid on which the pull-off was found
     pub nodes: usize,
@@ -366,22 +367,27 @@ pub(crate) struct Trace<'a, T: Traction> {
 /// over a few ℓ ahead of the edge, and the pressure has its crack-tip peak a few ℓ behind it.
 const REMESH_MARGIN: f64 = 0.25;
 
-/// The uniform zone must also cover every radius where the gap is below this (z₀). A graded
-/// ring of width s at gap H is unstable on its own (the diagonal 1 − A_ii k̄(H) of the Jacobian
-/// turns negative, a discrete jump of one ring) once its self-compliance A_ii ∝ μ^{3/2}s times the
-/// law's stiffness k̄ exceeds 1; beyond H = 3 the LJ stiffness is below 0.1 γ/z₀² (9-3: 0.098),
-/// about a fifth of its value at H = 2, so graded cells are safe there.
+/// The uniform zone must also cover every radius where the gap is below this (z₀) and the law
+/// stiffens with the gap (k̄ = dP̄/dH > 0, beyond the peak tension). A graded ring of width s at
+/// such a gap H is unstable on its own (the diagonal 1 − A_ii k̄(H) of the Jacobian turns
+/// negative, a discrete jump of one ring) once its self-compliance A_ii ∝ μ^{3/2}s times k̄
+/// exceeds 1; beyond H = 3 the LJ stiffness is below 0.1 γ/z₀² (9-3: 0.098), about a fifth of
+/// its value at H = 2, so graded cells are safe there. Where k̄ < 0 (gaps below the peak
+/// tension, inside the contact) the diagonal exceeds 1 whatever the cell, and the grid may be
+/// graded: at large μ that is most of the contact (a flat neck at H ≈ 1 on the unstable branch).
 pub(crate) const NEAR_GAP: f64 = 3.0;
 
-/// Outermost node radius where the gap is below [`NEAR_GAP`] (0 if none).
-pub(crate) fn near_reach<T: Traction>(sys: &System<'_, T>, state: &State) -> f64 {
-    sys.grid
-        .nodes
-        .iter()
-        .zip(&state.gaps)
-        .filter(|(_, &h)| h < NEAR_GAP)
-        .map(|(&r, _)| r)
-        .fold(0.0, f64::max)
+/// The band of radii whose nodes need the uniform zone: (innermost, outermost) node radius
+/// with gap below [`NEAR_GAP`] and k̄ > 0; (0, 0) if none. The inner end is where the gap opens
+/// through the peak tension — the contact edge in the process-zone sense (the crack tip at
+/// large μ), which lies outside [`System::contact_radius`] (where p changes sign) — and is where
+/// the trace and pull-off grids centre their fine zone.
+pub(crate) fn soft_band<T: Traction>(sys: &System<'_, T>, state: &State) -> (f64, f64) {
+    let soft = sys.soft_nodes(state);
+    match (soft.first(), soft.last()) {
+        (Some(&i), Some(&j)) => (sys.grid.nodes[i], sys.grid.nodes[j]),
+        _ => (0.0, 0.0),
+    }
 }
 
 /// True if the contact edge `a` is still `margin` inside the uniform zone of `spec`, and the
@@ -431,7 +437,7 @@ pub(crate) fn remesh<T: Traction>(
 
 /// Trace the S-curve from beyond jump-in until the load passes its minimum and reaches
 /// `end_load`. The grid is `window(a, r)` for the current contact radius a and reach r of small
-/// gaps ([`near_reach`] plus the remesh margin), rebuilt whenever the edge nears an end of its
+/// gaps ([`soft_band`] plus the remesh margin), rebuilt whenever the edge nears an end of its
 /// uniform zone or the small gaps reach beyond it (a `window` that ignores its arguments gives
 /// one fixed grid).
 pub(crate) fn trace_on<'a, T: Traction>(
@@ -461,8 +467,7 @@ pub(crate) fn trace_on<'a, T: Traction>(
     let mut pull_off: Option<Bracket<'a, T>> = None;
     let mut remeshes = 0;
     loop {
-        let a = prev.point.contact_radius;
-        let near = near_reach(&sys, &prev.state);
+        let (a, near) = soft_band(&sys, &prev.state);
         let margin =
             REMESH_MARGIN * params.window_zones * spec.fine_spacing * params.cells_per_zone;
         if !edge_inside(&spec, a, near, margin) {
@@ -485,10 +490,23 @@ pub(crate) fn trace_on<'a, T: Traction>(
         let (sa0, sa1) = (prev.point.slope_approach, next.point.slope_approach);
         if sa0 > 0.0 && sa1 <= 0.0 && jump_in.is_none() {
             jump_in = Some(bracket().locate(Slope::Approach, params, cost)?);
-        } else if sa0 < 0.0 && sa1 >= 0.0 && jump_in.is_some() {
+        } else if sa0 < 0.0
+            && sa1 >= 0.0
+            && jump_in.is_some()
+            && jump_out
+                .as_ref()
+                .is_none_or(|b| next.point.approach < b.b.point.approach)
+        {
+            // the deepest minimum of D, for the same reason as the load below
             jump_out = Some(bracket());
         }
-        if prev.point.slope_load < 0.0 && next.point.slope_load >= 0.0 {
+        // the deepest load minimum: a coarse cell can add a shallow lattice fold of the load
+        // beyond it (10-4 at μ = 10: −1.44 after −1.503 on the trace grid), which the last
+        // minimum would pick
+        let deeper = pull_off
+            .as_ref()
+            .is_none_or(|b| next.point.load < b.b.point.load);
+        if prev.point.slope_load < 0.0 && next.point.slope_load >= 0.0 && deeper {
             pull_off = Some(bracket());
         }
         points.push(next.point);

@@ -20,7 +20,8 @@
 //! **Discretisation.** Piecewise-constant ring pressures on a graded radial grid ([`grid`]),
 //! collocated at the nodes, with exact ring influence coefficients from complete elliptic
 //! integrals ([`influence`], [`elliptic`]). The grid is fine over the contact edge (a window that
-//! moves with it at large μ, rebuilt as the edge moves) and wherever the gap is small. The domain
+//! moves with it at large μ, rebuilt as the edge moves) and wherever a ring could jump on its own
+//! (gaps between the peak tension and 3z₀); the contact interior is graded. The domain
 //! is truncated where the neglected attractive tail carries a load below
 //! `Params::tail_tolerance`; the remaining tail (estimated as 2φ̄(H) at the outer edge) is
 //! reported.
@@ -28,7 +29,7 @@
 //! **Solution.** Newton on the bordered system (gaps H_i and the approach D) with a last
 //! equation that prescribes H(0), D or a pseudo-arclength step ([`solve`]); pseudo-arclength
 //! (Keller) continuation traces the whole S-curve through every fold of D, of the load and of
-//! H(0) ([`curve`]). Pull-off (the last load minimum, i.e. the load-control pull-off) and the
+//! H(0) ([`curve`]). Pull-off (the deepest load minimum, i.e. the load-control pull-off) and the
 //! jump points (first maximum and last minimum of D: jump-in on approach and jump-out on
 //! retraction under displacement control) are located by the secant (Illinois) method on dF̄/ds
 //! and dD/ds, computed exactly from the unit tangent of the solution path. [`refinement`] repeats

@@ -7,9 +7,11 @@
 //! the gap at the edge beyond H_tail, where the rigid tail load 2|φ̄(H_tail)| is below
 //! `tail_tolerance`, after allowing for the approach.
 //!
-//! The pull-off is then recomputed on three grids, uniform from the centre to a little beyond
-//! the contact radius at pull-off (a grid fine only near the edge, coarse inside, made Newton
-//! fail on the transfer at μ = 3), each with all cells smaller by `refinement_ratio` (r). On
+//! The pull-off is then recomputed on three grids, uniform over the edge at pull-off (where the
+//! gap opens through the peak tension, [`soft_band`]) ± (2ℓ + 2 % of its radius) and over every
+//! radius whose ring could jump on its own, graded inside the contact and outside (a grid uniform
+//! over the whole contact took ≈ 3000 nodes at μ = 10), each with all cells smaller by
+//! `refinement_ratio` (r). On
 //! each grid the minimum of F̄ is found by a secant search on dF̄/dD from the previous grid's
 //! solution; if that fails, the whole curve is traced on that grid instead. With values F₁, F₂, F₃ the observed
 //! order is p = ln((F₂ − F₁)/(F₃ − F₂))/ln r, and the Richardson error estimate of F₃ is
@@ -17,7 +19,7 @@
 //! falls back to |F₃ − F₂| (conservative). The tail estimate is added to the error.
 
 use super::curve::CurvePoint;
-use super::curve::{locate, near_reach, remesh, step_from, trace_on, Slope, Solved};
+use super::curve::{locate, remesh, soft_band, step_from, trace_on, Slope, Solved};
 use super::grid::GridSpec;
 use super::solve::System;
 use super::{Cost, HalfspaceError, HalfspaceParams, Problem, Scales, Traction};
@@ -46,8 +48,9 @@ fn outer_radius<T: Traction>(problem: &Problem<T>, mu: f64, params: &HalfspacePa
 /// 1.2 × the JKR radius at zero load, ρ₀ = (9π/2)^{1/3} μ^{1/2}, and at least 3) when that zone
 /// is at most `window_zones` ℓ wide (then `edge` and `near` are ignored); otherwise (large μ)
 /// over a window of that width from 40 % of it behind the edge to 60 % ahead (the edge grows
-/// along the trace), extended out to `near` (where the gap is still small,
-/// [`super::curve::NEAR_GAP`]), graded towards the centre and outwards.
+/// along the trace), extended out to `near`; `edge` and `near` are the ends of the band of rings
+/// that could jump on their own ([`super::curve::soft_band`]). Graded towards the centre and
+/// outwards.
 pub fn trace_grid<T: Traction>(
     problem: &Problem<T>,
     params: &HalfspaceParams,
@@ -126,22 +129,21 @@ impl PullOff {
     }
 }
 
-/// The pull-off grid: uniform over the contact edge at pull-off ± (2ℓ + 2 % of the contact
-/// radius) and out to `near` (where the gap is still small), graded towards the centre and
-/// outwards.
+/// The pull-off grid: uniform over the edge at pull-off (where the gap opens through the peak
+/// tension, [`soft_band`]) ± (2ℓ + 2 % of its radius) and out to `near` (where the gap is still
+/// small), graded towards the centre and outwards.
 fn pull_off_grid(
     mu: f64,
-    contact_radius: f64,
-    near: f64,
+    (edge, near): (f64, f64),
     outer: f64,
     params: &HalfspaceParams,
 ) -> GridSpec {
     let ell = process_zone(mu);
-    let half_width = 2.0 * ell + 0.02 * contact_radius;
+    let half_width = 2.0 * ell + 0.02 * edge;
     GridSpec {
         fine_spacing: ell / params.cells_per_zone,
-        zone_lo: (contact_radius - half_width).max(0.0),
-        zone_hi: (contact_radius + half_width).max(near),
+        zone_lo: (edge - half_width).max(0.0),
+        zone_hi: (edge + half_width).max(near),
         growth: params.growth,
         outer,
     }
@@ -168,7 +170,10 @@ fn pull_off_on<'a, T: Traction>(
     } else {
         centre
     };
-    const MAX_BRACKET_STEPS: usize = 40;
+    // each step moves the edge by about one cell at most (the gaps ahead of it open by
+    // max_gap_change); at μ = 10 the flat load minimum of the finer grid lay more than 40 cells
+    // from the coarser grid's (LJ 10-4), so allow a few hundred
+    const MAX_BRACKET_STEPS: usize = 400;
     let mut step = 0.1 * params.max_gap_change;
     for _ in 0..MAX_BRACKET_STEPS {
         let (far, used) = step_from(&sys, &near, step, params, cost)?;
@@ -197,8 +202,7 @@ pub fn pull_off<T: Traction>(
     let trace = trace_on(problem, &window, params, &mut cost)?;
     let base = pull_off_grid(
         mu,
-        trace.pull_off.point.contact_radius,
-        near_reach(&trace.pull_off_system, &trace.pull_off.state),
+        soft_band(&trace.pull_off_system, &trace.pull_off.state),
         window(0.0, 0.0).outer,
         params,
     );

@@ -302,6 +302,18 @@ impl<'a, T: Traction> System<'a, T> {
         }
     }
 
+    /// Indices of the nodes whose gap is below `NEAR_GAP` where the law stiffens with the gap
+    /// (k̄ > 0): the rings that could jump on their own on a coarse cell
+    /// ([`super::curve::NEAR_GAP`]).
+    pub fn soft_nodes(&self, state: &State) -> Vec<usize> {
+        (0..self.len())
+            .filter(|&i| {
+                let h = state.gaps[i];
+                h < super::curve::NEAR_GAP && self.problem.scaled_law(h).1 > 0.0
+            })
+            .collect()
+    }
+
     /// Rigid estimate of the load carried by the attraction beyond the outer edge, 2φ̄(H_edge).
     pub fn tail_load(&self, state: &State) -> f64 {
         let b = *self.grid.edges.last().unwrap_or(&0.0);
@@ -310,25 +322,36 @@ impl<'a, T: Traction> System<'a, T> {
         2.0 * self.problem.scaled_tail_energy(h_edge)
     }
 
-    /// A starting state on this grid from a converged state on grid `other`: the gaps less the
-    /// sphere profile, H − ρ²/2 = U − D (smooth), interpolated linearly (constant beyond the old
-    /// domain), and the same approach. Interpolating H itself would add the chord error of the
-    /// parabola, Δρ²/8, which is large on the graded outer cells.
+    /// A starting state on this grid from a converged state on grid `other`: the surface
+    /// displacement U = H − ρ²/2 + D (smooth) interpolated linearly, continued beyond the old
+    /// domain as the Boussinesq far field U ∝ 1/ρ (a constant there put the guess ~0.2 z₀ off at
+    /// the outer node at μ = 10, where the outer cells are wide and U ~ μ^{3/2}F̄/ρ is large), and
+    /// the same approach. Interpolating H itself would add the chord error of the parabola,
+    /// Δρ²/8, which is large on the graded outer cells.
     pub fn transfer(&self, other: &Grid, state: &State) -> State {
-        let elastic: Vec<f64> = other
+        let d = state.approach;
+        let displacement: Vec<f64> = other
             .nodes
             .iter()
             .zip(&state.gaps)
-            .map(|(r, h)| h - 0.5 * r * r)
+            .map(|(r, h)| h - 0.5 * r * r + d)
             .collect();
+        let (r_last, u_last) = (other.nodes[other.len() - 1], displacement[other.len() - 1]);
         State {
             gaps: self
                 .grid
                 .nodes
                 .iter()
-                .map(|&r| other.interpolate(&elastic, r) + 0.5 * r * r)
+                .map(|&r| {
+                    let u = if r > r_last {
+                        u_last * r_last / r
+                    } else {
+                        other.interpolate(&displacement, r)
+                    };
+                    u - d + 0.5 * r * r
+                })
                 .collect(),
-            approach: state.approach,
+            approach: d,
         }
     }
 }

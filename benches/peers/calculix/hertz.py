@@ -32,7 +32,6 @@ from pathlib import Path
 
 R, DEPTH, YOUNGS, POISSON = 1000.0, 4.0, 1.0, 0.3
 E_STAR = YOUNGS / (1.0 - POISSON**2)
-A = math.sqrt(R * DEPTH)
 P_HERTZ = 4.0 / 3.0 * E_STAR * math.sqrt(R) * DEPTH**1.5
 
 
@@ -49,7 +48,15 @@ def graded(fine_end, h0, ratio, end):
     return xs
 
 
-def write_input(path, per_radius, ratio, block, penalty):
+def linear_block():
+    """The Hertz block's material lines."""
+    return f"*MATERIAL, NAME=BLOCK\n*ELASTIC\n{YOUNGS}, {POISSON}\n"
+
+
+def write_input(path, per_radius, ratio, block, penalty, depth=DEPTH, material=None, step="*STEP, INC=200\n*STATIC\n0.1, 1.0, 1e-5, 0.2\n"):
+    """The deck: the block (`material`: *MATERIAL, NAME=BLOCK lines; default linear_block()) and
+    the stiff sphere pressed `depth` nm; mesh sizes from the contact radius a = √(R·depth)."""
+    A = math.sqrt(R * depth)
     h0 = A / per_radius
     rs = graded(2.0 * A, h0, ratio, block * A)
     ds = graded(2.0 * A, h0, ratio, block * A)
@@ -113,52 +120,57 @@ def write_input(path, per_radius, ratio, block, penalty):
         f.write("*SURFACE, NAME=MASTER, TYPE=ELEMENT\n")
         for e, face in bottom_faces:
             f.write(f"{e}, S{face}\n")
-        f.write(f"*MATERIAL, NAME=BLOCK\n*ELASTIC\n{YOUNGS}, {POISSON}\n")
+        f.write(material or linear_block())
         f.write(f"*MATERIAL, NAME=STIFF\n*ELASTIC\n{YOUNGS * 1e4}, {POISSON}\n")
         f.write("*SOLID SECTION, ELSET=SPECIMEN, MATERIAL=BLOCK\n*SOLID SECTION, ELSET=INDENTER, MATERIAL=STIFF\n")
         f.write("*SURFACE INTERACTION, NAME=SI\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n")
         f.write(f"{penalty}, 1e-9, {A}\n")
         f.write("*CONTACT PAIR, INTERACTION=SI, TYPE=SURFACE TO SURFACE\nSLAVE, MASTER\n")
         f.write("*BOUNDARY\nAXIS, 1, 1\nBOTTOM, 1, 2\n")
-        f.write("*STEP, INC=200\n*STATIC\n0.1, 1.0, 1e-5, 0.2\n")
-        f.write(f"*BOUNDARY\nITOP, 2, 2, {-DEPTH}\n")
+        f.write(step)
+        f.write(f"*BOUNDARY\nITOP, 2, 2, {-depth}\n")
         f.write("*NODE PRINT, NSET=ITOP, TOTALS=ONLY\nRF\n*END STEP\n")
     return len(elems), len(nodes), n_specimen
 
 
-def total_reaction(dat):
-    """The last 'total force' line of the .dat file, y component."""
+def total_reactions(dat):
+    """(step time, y component) of every 'total force' block of the .dat file."""
     text = Path(dat).read_text()
-    blocks = re.findall(r"total force.*?\n\s*\n?\s*([-+0-9.Ee]+)\s+([-+0-9.Ee]+)\s+([-+0-9.Ee]+)", text, re.S)
+    blocks = re.findall(r"total force.*?time\s+([-+0-9.Ee]+)\s*\n\s*\n?\s*([-+0-9.Ee]+)\s+([-+0-9.Ee]+)\s+([-+0-9.Ee]+)", text, re.S)
     if not blocks:
         raise RuntimeError(f"no total force in {dat}")
-    return float(blocks[-1][1])
+    return [(float(b[0]), float(b[2])) for b in blocks]
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--per-radius", type=float, default=20.0)
-    ap.add_argument("--ratio", type=float, default=1.15)
-    ap.add_argument("--block", type=float, default=200.0)
-    ap.add_argument("--penalty", type=float, default=100.0, help="GPa/nm")
-    ap.add_argument("--workdir", default="/tmp/turf_peer_ccx")
-    a = ap.parse_args()
+def run_ccx(work, name):
+    """Run ccx on WORK/NAME.inp; returns the wall time (s)."""
     ccx = shutil.which("ccx")
     if ccx is None:
         raise SystemExit("ccx not found: apt-get install calculix-ccx")
-    work = Path(a.workdir)
-    work.mkdir(parents=True, exist_ok=True)
-    elements, nodes, n_spec = write_input(work / "hertz.inp", a.per_radius, a.ratio, a.block, a.penalty)
     env = dict(os.environ, OMP_NUM_THREADS=os.environ.get("OMP_NUM_THREADS", "2"))
     t0 = time.perf_counter()
-    run = subprocess.run([ccx, "-i", "hertz"], cwd=work, env=env, capture_output=True, text=True)
+    run = subprocess.run([ccx, "-i", name], cwd=work, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - t0
     if run.returncode != 0 or "ERROR" in run.stdout:
         tail = "\n".join(run.stdout.splitlines()[-20:])
         raise SystemExit(f"ccx failed:\n{tail}")
-    # reaction on the indenter's top (opposes the imposed downward motion): load = -RF_y
-    load = -180.0 * total_reaction(work / "hertz.dat")
-    print(json.dumps({
+    return wall
+
+
+def mesh_parser(doc, per_radius, ratio, workdir):
+    """The command line shared by the CalculiX peers: mesh, block, penalty and work directory."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--per-radius", type=float, default=per_radius)
+    ap.add_argument("--ratio", type=float, default=ratio)
+    ap.add_argument("--block", type=float, default=200.0)
+    ap.add_argument("--penalty", type=float, default=100.0, help="GPa/nm")
+    ap.add_argument("--workdir", default=workdir)
+    return ap
+
+
+def run_record(a, elements, n_spec, nodes, wall):
+    """The fields every CalculiX peer reports: mesh, block and cost."""
+    return {
         "peer": "calculix",
         "elements": elements,
         "specimen_elements": n_spec,
@@ -167,6 +179,19 @@ def main():
         "ratio": a.ratio,
         "block_over_a": a.block,
         "wall_time_s": wall,
+    }
+
+
+def main():
+    a = mesh_parser(__doc__, 20.0, 1.15, "/tmp/turf_peer_ccx").parse_args()
+    work = Path(a.workdir)
+    work.mkdir(parents=True, exist_ok=True)
+    elements, nodes, n_spec = write_input(work / "hertz.inp", a.per_radius, a.ratio, a.block, a.penalty)
+    wall = run_ccx(work, "hertz")
+    # reaction on the indenter's top (opposes the imposed downward motion): load = -RF_y
+    load = -180.0 * total_reactions(work / "hertz.dat")[-1][1]
+    print(json.dumps({
+        **run_record(a, elements, n_spec, nodes, wall),
         "load_nN": load,
         "hertz_nN": P_HERTZ,
         "error_relative": (load - P_HERTZ) / P_HERTZ,
