@@ -9,7 +9,8 @@
 //!   [`JUMP_RATIO`] times the change of the drive; consecutive such increments form one jump,
 //!   reported by the rows before and after it. The first closing jump is the jump-in, the first
 //!   opening one the jump-out (its start is the displacement-controlled pull-off, −5/6 πγR
-//!   in the JKR limit).
+//!   in the JKR limit). An increment at a fixed drive (a hold) is creep, never a jump: the
+//!   gap moves there with time, not with the drive.
 //! - **Limit points.** A curve traced by arc-length continuation ([`super::arclength`]) has no
 //!   jumps: it turns back at the folds of the S-curve. A fold is a row inside a schedule segment
 //!   where the drive reaches a local extremum (the drive reverses between its neighbours of the
@@ -78,7 +79,8 @@ pub fn limit_points(rows: &[Row]) -> Vec<(Row, bool)> {
 /// True if the increment from row `a` to row `b` is part of a jump.
 pub fn jumping(a: &Row, b: &Row) -> bool {
     let dg = b.gap_nm - a.gap_nm;
-    dg.abs() > JUMP_RATIO * (b.drive_nm - a.drive_nm).abs() && dg != 0.0
+    let dd = b.drive_nm - a.drive_nm;
+    dg.abs() > JUMP_RATIO * dd.abs() && dg != 0.0 && dd != 0.0
 }
 
 /// The distance of row `r` from the polyline of `traced` in the plane (drive/`length`,
@@ -338,6 +340,20 @@ mod tests {
         assert!(e.fold_in.is_none() && e.fold_out.is_none());
         // a curve still falling at its end has no pull-off
         assert!(detect(&rows[..7]).pull_off.is_none());
+    }
+
+    #[test]
+    fn a_hold_at_a_fixed_drive_is_no_jump() {
+        // load to drive 10, hold there while the gap creeps, retract: the hold is creep
+        let rows = vec![
+            row(0, 8.0, -8.0, 8.0),
+            row(0, 10.0, -10.0, 10.5),
+            row(1, 10.0, -10.002, 9.0),
+            row(1, 10.0, -10.003, 8.0),
+            row(2, 9.0, -9.0, 6.0),
+        ];
+        let e = detect(&rows);
+        assert!(e.jump_in.is_none() && e.jump_out.is_none(), "{e:?}");
     }
 
     #[test]
