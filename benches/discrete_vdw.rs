@@ -13,19 +13,22 @@ use turf::discrete::turf::{generate_turf, TurfParams};
 use turf::discrete::vdw::VdwParams;
 use turf::discrete::vdw_term::VdwTerm;
 
-/// 100 wavy tubes of 100 segments (50 nm) in a 700 nm periodic box: an unrelaxed turf in
-/// which some neighbouring tubes touch, cross or overlap.
+/// 100 wavy tubes of 100 segments, as in `benches/scenes/turf_100x100.toml` (2 µm tubes,
+/// 20 nm segments, tilt 0.1 rad, waviness 50 nm, 1 µm periodic box) as generated — overlap-free,
+/// with contacts only where tubes grew within range (the generator refuses overlapping turfs,
+/// so the earlier unrelaxed 5 µm turf with crossings can no longer be built).
 fn turf_100x100() -> (VdwTerm, Vec<f64>, turf::discrete::turf::Turf) {
     let p = TurfParams {
-        density: 100.0 / (700.0 * 700.0),
-        box_x: 700.0,
-        box_y: 700.0,
-        length_mean: 5000.0,
-        length_cv: 0.0,
-        segment_length: 50.0,
-        wave_amplitude: 20.0,
-        wave_length: 600.0,
-        tilt_spread: 0.05,
+        density: 1e-4,
+        box_x: 1000.0,
+        box_y: 1000.0,
+        length_mean: 2000.0,
+        length_cv: 0.05,
+        segment_length: 20.0,
+        wave_amplitude: 50.0,
+        wave_length: 1000.0,
+        tilt_spread: 0.1,
+        seed: 3,
         ..TurfParams::default()
     };
     let turf = generate_turf(&p).unwrap();
