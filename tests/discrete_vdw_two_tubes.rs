@@ -90,40 +90,40 @@ fn parallel_adhesion_energy_per_length_is_minus_gamma_l() {
     }
 }
 
+/// A 100 nm tube (segments `seg_b`) slid along a 480 nm one (segments `seg_a`) at the
+/// equilibrium distance, parallel or crossed, by more than the longest segment of either:
+/// the lowest energy (aJ) and the relative variation (max − min)/|min|.
+fn sliding_variation(params: &VdwParams, seg_a: f64, seg_b: f64, crossed: bool) -> (f64, f64) {
+    let r = params.radius_ref;
+    let d0 = 2.0 * r + params.gap_eq;
+    let a = straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 480.0, seg_a);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let steps = 40;
+    for k in 0..=steps {
+        let shift = 100.0 + 110.0 * k as f64 / steps as f64;
+        let b = if crossed {
+            straight([shift, -50.0, d0], [0.0, 1.0, 0.0], 100.0, seg_b)
+        } else {
+            straight([shift, d0, 0.0], [1.0, 0.0, 0.0], 100.0, seg_b)
+        };
+        let e = energy(params, &[a.clone(), b], r, PeriodicBox::default());
+        lo = lo.min(e);
+        hi = hi.max(e);
+    }
+    (lo, (hi - lo) / lo.abs())
+}
+
 #[test]
 fn a_tube_sliding_along_another_keeps_its_energy() {
     let params = VdwParams::default();
-    let r = params.radius_ref;
-    let d0 = 2.0 * r + params.gap_eq;
     for (seg_a, seg_b) in [(5.0, 5.0), (20.0, 7.0), (80.0, 33.0), (13.0, 100.0)] {
-        let a = straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 480.0, seg_a);
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        let steps = 40;
-        for k in 0..=steps {
-            // slide by more than the longest segment of either tube
-            let shift = 100.0 + 110.0 * k as f64 / steps as f64;
-            let b = straight([shift, d0, 0.0], [1.0, 0.0, 0.0], 100.0, seg_b);
-            let e = energy(&params, &[a.clone(), b], r, PeriodicBox::default());
-            lo = lo.min(e);
-            hi = hi.max(e);
+        for (crossed, name) in [(false, "parallel"), (true, "crossed")] {
+            let (lo, variation) = sliding_variation(&params, seg_a, seg_b, crossed);
+            println!(
+                "{name}, segments {seg_a}/{seg_b} nm: E ≈ {lo:.4} aJ, variation {variation:.2e}"
+            );
+            assert!(variation < SLIDING_TOL);
         }
-        let variation = (hi - lo) / lo.abs();
-        println!(
-            "parallel, segments {seg_a}/{seg_b} nm: E ≈ {lo:.4} aJ, variation {variation:.2e}"
-        );
-        assert!(variation < SLIDING_TOL);
-        // crossed tubes sliding along each other
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for k in 0..=steps {
-            let shift = 100.0 + 110.0 * k as f64 / steps as f64;
-            let b = straight([shift, -50.0, d0], [0.0, 1.0, 0.0], 100.0, seg_b);
-            let e = energy(&params, &[a.clone(), b], r, PeriodicBox::default());
-            lo = lo.min(e);
-            hi = hi.max(e);
-        }
-        let variation = (hi - lo) / lo.abs();
-        println!("crossed, segments {seg_a}/{seg_b} nm: E ≈ {lo:.4} aJ, variation {variation:.2e}");
-        assert!(variation < SLIDING_TOL);
     }
 }
 
@@ -164,36 +164,19 @@ fn a_periodic_image_equals_the_shifted_tube() {
     assert!((e_image - e_shifted).abs() < IMAGE_TOL * e_shifted.abs());
 }
 
-/// Sliding variation (parallel, crossed) of a 100 nm tube along a 480 nm one, segments
-/// `seg_a`/`seg_b` nm, and the parallel line-energy error, for the quadrature of `params`.
+/// Sliding variation (parallel, crossed) and the parallel line-energy error for the
+/// quadrature of `params`, segments `seg_a`/`seg_b` nm.
 fn quadrature_errors(params: &VdwParams, seg_a: f64, seg_b: f64) -> (f64, f64, f64) {
-    let r = params.radius_ref;
-    let d0 = 2.0 * r + params.gap_eq;
-    let a = straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 480.0, seg_a);
-    let variation = |crossed: bool| {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for k in 0..=40 {
-            let shift = 100.0 + 110.0 * k as f64 / 40.0;
-            let b = if crossed {
-                straight([shift, -50.0, d0], [0.0, 1.0, 0.0], 100.0, seg_b)
-            } else {
-                straight([shift, d0, 0.0], [1.0, 0.0, 0.0], 100.0, seg_b)
-            };
-            let e = energy(params, &[a.clone(), b], r, PeriodicBox::default());
-            lo = lo.min(e);
-            hi = hi.max(e);
-        }
-        (hi - lo) / lo.abs()
-    };
+    let d0 = 2.0 * params.radius_ref + params.gap_eq;
     let pair = |l: f64| {
         let a = straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], l, seg_a);
         let b = straight([0.0, d0, 0.0], [1.0, 0.0, 0.0], l, seg_b);
-        energy(params, &[a, b], r, PeriodicBox::default())
+        energy(params, &[a, b], params.radius_ref, PeriodicBox::default())
     };
     let per_length = (pair(640.0) - pair(320.0)) / 320.0;
     (
-        variation(false),
-        variation(true),
+        sliding_variation(params, seg_a, seg_b, false).1,
+        sliding_variation(params, seg_a, seg_b, true).1,
         (per_length + params.gamma_l).abs() / params.gamma_l,
     )
 }
