@@ -28,6 +28,7 @@ fn block() -> Mesh {
         fine_radius: SIDE,
         fine_depth: SIDE,
         grading: 0.0,
+        max_elements: turf::continuum::mesh::DEFAULT_MAX_ELEMENTS,
     })
     .unwrap()
 }

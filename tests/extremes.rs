@@ -392,6 +392,28 @@ fn mesh_of_a_hundred_thousand_elements_gives_hertz() {
     assert!(r.mesh_report.elements > 70_000);
 }
 
+/// A mesh beyond `mesh.max_elements` is refused before it is built, with the sizes that asked for
+/// it, instead of a run that fills the memory (the seed's γ on a 25 MPa card asked for ≳ 10⁷
+/// elements: docs/chain.md). The ceiling is lowered here so the refusal is cheap; the Hertz
+/// case at 240 elements per radius has 100,798 elements.
+#[test]
+fn a_mesh_beyond_the_element_ceiling_is_refused_with_its_sizes() {
+    let mut p = hertz_small(10.0, 2);
+    p.mesh.elements_per_radius = 240.0;
+    p.mesh.max_elements = 20_000;
+    let e = run_indent(&p, &mut |_| {})
+        .err()
+        .expect("a 100k-element mesh under a 20k ceiling");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("more than 20000 elements") && msg.contains("mesh.max_elements"),
+        "{msg}"
+    );
+    // the same problem at 7 elements per radius (≈ 1.5k elements) runs under the same ceiling
+    p.mesh.elements_per_radius = 7.0;
+    assert!(run_indent(&p, &mut |_| {}).is_ok());
+}
+
 // ---------------------------------------------------------------------------------------------
 // Tubes nearly parallel or crossing at small angles
 

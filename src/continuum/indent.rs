@@ -95,6 +95,8 @@ pub struct MeshParams {
     pub fine_depth: f64,
     /// size growth per unit distance from the fine zone (see [`DEFAULT_GRADING`])
     pub grading: f64,
+    /// refuse a generated mesh of more elements than this
+    pub max_elements: usize,
     /// a Gmsh 2.2 mesh to use instead (surface at its top, axis at r = 0)
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gmsh_file: Option<std::path::PathBuf>,
@@ -124,6 +126,7 @@ impl Default for MeshParams {
             fine_radius: 1.5,
             fine_depth: 0.5,
             grading: DEFAULT_GRADING,
+            max_elements: super::mesh::DEFAULT_MAX_ELEMENTS,
             gmsh_file: None,
         }
     }
@@ -413,8 +416,10 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     let e_star = e / (1.0 - nu * nu);
     let r = p.indenter.radius();
     if max_load > 0.0 {
-        // under load control: the Hertz depth of the largest load sizes the mesh
-        max_depth = max_depth.max((0.75 * max_load / (e_star * r.sqrt())).powf(2.0 / 3.0));
+        // under load control: the Hertz depth of the specimen's share of the largest load
+        // sizes the mesh
+        let q = p.machine.hertz_specimen_load(max_load, e_star, r);
+        max_depth = max_depth.max((0.75 * q / (e_star * r.sqrt())).powf(2.0 / 3.0));
     }
     if let Machine::Spring { stiffness } = p.machine {
         // the schedule drives Δ, not δ: a soft spring (K ≪ the contact stiffness) holds the
@@ -446,6 +451,7 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
         fine_radius: m.fine_radius * a,
         fine_depth: m.fine_depth * a,
         grading: m.grading,
+        max_elements: m.max_elements,
     };
     let c = &p.contact;
     if !(c.penalty_factor > 0.0 && c.range_fraction > 0.0 && (1..=3).contains(&c.quadrature_points))

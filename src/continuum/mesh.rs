@@ -20,6 +20,26 @@ pub enum MeshError {
     /// the sizes are not usable
     #[error("mesh: {0}")]
     Invalid(String),
+    /// the requested sizes ask for more elements than allowed
+    #[error(
+        "mesh: the sizes ask for more than {max} elements (smallest {smallest} nm over a fine zone \
+         {fine_radius} nm wide and {fine_depth} nm deep, block {width} × {depth} nm) — coarsen \
+         mesh.smallest, shrink the fine zone (a smaller load or depth), or raise mesh.max_elements"
+    )]
+    TooLarge {
+        /// the ceiling
+        max: usize,
+        /// h₀, nm
+        smallest: f64,
+        /// r_f, nm
+        fine_radius: f64,
+        /// d_f, nm
+        fine_depth: f64,
+        /// W, nm
+        width: f64,
+        /// D, nm
+        depth: f64,
+    },
     /// a Gmsh file could not be parsed
     #[error("Gmsh mesh, line {line}: {reason}")]
     Msh {
@@ -45,6 +65,9 @@ pub struct BlockSpec {
     pub fine_depth: f64,
     /// growth of the cell size per unit distance from the fine zone (e.g. 0.3)
     pub grading: f64,
+    /// refuse a mesh of more triangles than this (its memory and solve time would be out of
+    /// reach: ~3 kB per element in the solve, docs/validation.md "Extremes")
+    pub max_elements: usize,
 }
 
 /// A triangle mesh of the block.
@@ -89,6 +112,10 @@ pub struct MeshReport {
     pub depth_nm: f64,
 }
 
+/// Default ceiling on the number of triangles: a million elements take ~3 GB and minutes per
+/// increment here (the 214,769-element Hertz mesh: 615 MB, docs/validation.md "Extremes").
+pub const DEFAULT_MAX_ELEMENTS: usize = 1_000_000;
+
 type Cell = (u32, u64, u64); // (level, i, j)
 
 /// A graded, balanced quadtree triangulation of the block.
@@ -100,6 +127,7 @@ pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
         fine_radius,
         fine_depth,
         grading,
+        max_elements,
     } = *spec;
     let ok = |v: f64| v > 0.0 && v.is_finite();
     if !(ok(width)
@@ -135,6 +163,17 @@ pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
             stack.extend(children((l, i, j)));
         } else {
             leaves.insert((l, i, j));
+            // every leaf becomes at least two triangles
+            if 2 * leaves.len() > max_elements {
+                return Err(MeshError::TooLarge {
+                    max: max_elements,
+                    smallest: h0,
+                    fine_radius,
+                    fine_depth,
+                    width,
+                    depth,
+                });
+            }
         }
     }
     balance(&mut leaves, nx, ny);
@@ -421,6 +460,7 @@ mod tests {
             fine_radius: 30.0,
             fine_depth: 10.0,
             grading: 0.3,
+            max_elements: DEFAULT_MAX_ELEMENTS,
         }
     }
 

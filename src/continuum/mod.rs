@@ -41,7 +41,7 @@ pub mod mesh;
 pub mod newton;
 pub mod output;
 
-pub use indent::{run_indent, IndentParams, IndentResult, Segment};
+pub use indent::{run_indent, IndentParams, IndentResult, Progress, Segment};
 
 /// Why a continuum run failed.
 #[derive(Debug, thiserror::Error)]

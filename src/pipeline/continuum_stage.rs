@@ -24,11 +24,10 @@ use crate::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use crate::continuum::material::linear::LinearElastic;
 use crate::continuum::material::viscoelastic::PronyTerm;
 use crate::continuum::material::Elastic;
-use crate::continuum::{run_indent, IndentParams, IndentResult, Segment};
+use crate::continuum::{run_indent, IndentParams, IndentResult, Progress, Segment};
 use crate::laws::{LennardJones, SurfaceLaw, ThermallyShifted};
 use crate::scene::adhesion::ThermalShift;
 use crate::scene::indenter::Shape;
-use crate::scene::machine::Control;
 use crate::scene::material::MaterialModel;
 use crate::scene::schedule::SegmentKind;
 use crate::scene::solver::{Kinematics, Method};
@@ -73,19 +72,10 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
             })
         }
     };
-    let machine = match &s.machine {
-        None => FeMachine::Displacement,
-        Some(m) => match (m.control, m.stiffness) {
-            // k₁ the support springs in parallel, k₂ the load frame in series (seed eq. 2.4;
-            // docs/scenes.md `[machine]`); the scene checks that both or neither are given
-            (Control::Load, _) => match (m.k1, m.k2) {
-                (Some(k1), Some(k2)) => FeMachine::LoadFrame { k1: k1.0, k2: k2.0 },
-                _ => FeMachine::Load,
-            },
-            (Control::Displacement, Some(k)) => FeMachine::Spring { stiffness: k.0 },
-            (Control::Displacement, None) => FeMachine::Displacement,
-        },
-    };
+    let machine = s
+        .machine
+        .as_ref()
+        .map_or(FeMachine::Displacement, |m| m.fe_machine());
     let ind = s
         .indenter
         .as_ref()
@@ -235,6 +225,9 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         mesh.smallest = m.smallest.map(|l| l.0);
         mesh.grading = m.grading.0 - 1.0;
     }
+    if let Some(n) = s.mesh.as_ref().and_then(|m| m.max_elements) {
+        mesh.max_elements = usize::try_from(n).unwrap_or(usize::MAX);
+    }
     let mut params = IndentParams {
         indenter,
         material: MaterialParams { elastic, prony },
@@ -326,14 +319,29 @@ fn with_fitted_card(
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
     let fitted = with_fitted_card(scene, ctx)?;
     let params = indent_params(fitted.as_ref().unwrap_or(scene))?;
-    let (result, failure): (IndentResult, Option<String>) = match run_indent(&params, &mut |_| {}) {
-        Ok(r) => (r, None),
-        Err(crate::continuum::FeError::Stopped(r)) => {
-            let why = r.failure.clone();
-            (*r, why)
+    let mut increments = 0usize;
+    let mut report_progress = |p: &Progress| {
+        increments += 1;
+        if let Some(bar) = ctx.progress {
+            bar.set_message(format!(
+                "continuum: segment {}/{}, increment {increments}, t = {:.3} s, depth {:.3} nm, load {:.4e} nN",
+                p.segment + 1,
+                p.segments,
+                p.row.time_s,
+                p.row.depth_nm,
+                p.row.load_nN
+            ));
         }
-        Err(e) => return Err(failed(e.to_string())),
     };
+    let (result, failure): (IndentResult, Option<String>) =
+        match run_indent(&params, &mut report_progress) {
+            Ok(r) => (r, None),
+            Err(crate::continuum::FeError::Stopped(r)) => {
+                let why = r.failure.clone();
+                (*r, why)
+            }
+            Err(e) => return Err(failed(e.to_string())),
+        };
     let dir = ctx.out_dir.join("continuum");
     result.write(&dir).map_err(|source| StageError::Report {
         stage: Stage::Continuum,

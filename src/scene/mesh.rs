@@ -48,6 +48,10 @@ pub struct Mesh {
     /// growing with `grading` below (docs/validation-continuum.md, hyperfoam_indent.toml).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fine_depth: Option<Length>,
+    /// Refuse a generated mesh of more elements than this (a clear stop instead of a run that
+    /// exhausts memory). Default 1,000,000 (≈ 3 GB).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_elements: Option<u64>,
 }
 
 fn default_grading() -> Number {
@@ -62,6 +66,7 @@ impl Default for Mesh {
             smallest: None,
             grading: default_grading(),
             fine_depth: None,
+            max_elements: None,
         }
     }
 }
@@ -72,6 +77,12 @@ impl Mesh {
         c.positive_opt("mesh.depth", self.depth);
         c.positive_opt("mesh.smallest", self.smallest);
         c.positive_opt("mesh.fine_depth", self.fine_depth);
+        if self.max_elements.is_some_and(|n| n < 100) {
+            c.bad(
+                "mesh.max_elements",
+                "must be at least 100 (a usable mesh has hundreds of elements)".to_string(),
+            );
+        }
         if !(self.grading.0 > 1.0 && self.grading.0 <= 2.0) {
             c.bad(
                 "mesh.grading",
