@@ -245,5 +245,25 @@ fn the_real_discrete_stage_is_reused_when_only_the_fit_changes() {
     );
     // the card was refitted on the reused curve, to the new strain range
     assert_eq!(second["stages"][1]["values"]["strain_max"], 0.25);
+    // pin_e0 holds the card's E⁰ = 2Σμ (ν = 0) at the tangent law fitted to the same curve,
+    // which the discrete stage reports; the free fit's E⁰ is its own
+    let pinned = summary(&["homogenize.pin_e0=true"]);
+    assert_eq!(cached(&pinned), [true, false]);
+    let e0 = |s: &serde_json::Value| {
+        let v = &s["stages"][1]["values"];
+        2.0 * (1..=2)
+            .filter_map(|i| v[format!("hyperfoam_mu{i}_GPa")].as_f64())
+            .sum::<f64>()
+    };
+    let law = pinned["stages"][0]["values"]["tangent_e0_GPa"]
+        .as_f64()
+        .unwrap();
+    // the pin is exact up to the fit's parametrisation (Σμ fixed, split by a softmax)
+    assert!(
+        (e0(&pinned) / law - 1.0).abs() < 1e-9,
+        "{} vs {law}",
+        e0(&pinned)
+    );
+    assert!((e0(&first) / law - 1.0).abs() > 1e-6);
     std::fs::remove_dir_all(dir).ok();
 }

@@ -202,9 +202,18 @@ pub fn spring_pull_off(path: &[(f64, f64)], k: Option<f64>) -> Option<(f64, f64)
 /// Detect the events along `rows`.
 pub fn detect(rows: &[Row]) -> Events {
     let mut ev = Events::default();
+    // the pull-off is a retraction event: search from the deepest point on, so that a tensile
+    // load on the approach (a damped jump-in carries the viscous force of the snap) is not
+    // taken for it
+    let turn = rows
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.depth_nm.total_cmp(&b.1.depth_nm))
+        .map_or(0, |(i, _)| i);
     if let Some((i, min)) = rows
         .iter()
         .enumerate()
+        .skip(turn)
         .min_by(|a, b| a.1.load_nN.total_cmp(&b.1.load_nN))
     {
         if min.load_nN < 0.0 && rows[i + 1..].iter().any(|r| r.load_nN > min.load_nN) {
@@ -340,6 +349,21 @@ mod tests {
         assert!(e.fold_in.is_none() && e.fold_out.is_none());
         // a curve still falling at its end has no pull-off
         assert!(detect(&rows[..7]).pull_off.is_none());
+    }
+
+    #[test]
+    fn a_tensile_spike_on_the_approach_is_no_pull_off() {
+        // a damped jump-in carries the viscous force of the snap (−99 nN on the turf_indent
+        // card, docs/chain.md) — more tensile than the retraction's −24 nN
+        let rows = vec![
+            row(0, -3.3, 3.0, -7.3),
+            row(0, -3.15, 0.34, -99.0),
+            row(0, -3.0, 0.34, -96.0),
+            row(1, 10.0, -10.0, 300.0),
+            row(2, 2.0, -2.0, -24.4),
+            row(2, -10.0, 10.0, -0.4),
+        ];
+        assert_eq!(detect(&rows).pull_off.unwrap().load_nN, -24.4);
     }
 
     #[test]

@@ -64,6 +64,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     if let Some(e) = h.strain_max {
         params.strain_max = e.0;
     }
+    params.pin_initial_modulus = h.pin_e0;
     params.relaxation = match &s.viscoelastic {
         None => None,
         Some(v) if v.g.len() == 1 => Some(Relaxation::Law {
@@ -80,6 +81,12 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         }
     };
     let out = homogenize::run(&params).map_err(|e| failed(e.to_string()))?;
+    // on a terminal the warnings show as they arise; they are always in homogenize/summary.json
+    if let Some(bar) = ctx.progress {
+        for w in &out.hyperfoam_fit.warnings {
+            bar.println(format!("homogenize: warning: {w}"));
+        }
+    }
     let report = |source| StageError::Report {
         stage: Stage::Homogenize,
         source,

@@ -35,6 +35,13 @@ pub struct Homogenize {
     /// `"loading"`, `"unloading"` or `"tangent-law"`. Default `"loading"`.
     #[serde(default = "default_curve")]
     pub curve: Curve,
+    /// Hold the hyperfoam's E⁰ = 2Σμᵢ(1 + ν) at the tangent law's E⁰ (fitted to the curve
+    /// first), fitting only the αᵢ and the split of μ — as the seed's Table 5.1 does. Default:
+    /// true for `"tangent-law"`, false for a curve. Use it when the curve is past its knee at
+    /// its first point (a buckling plateau): a free fit then extrapolates E⁰ and can push an α
+    /// to its bound (docs/homogenize.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pin_e0: Option<bool>,
     /// Tangent law: initial modulus E⁰, GPa (seed: 700 MPa).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub e0: Option<Pressure>,
