@@ -498,3 +498,55 @@ fn the_pipeline_writes_the_sphere_load_depth_curve() {
     assert!(rows[2][0] > rows[1][0] && rows[2][1] > 0.0, "{rows:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The turf indentation rung of `turf bench --turf-indent` on the 4-tube turf: its flat
+/// compression gives the card, a 150 nm sphere indents the tubes (two realisations) and the
+/// card to the same depth, and every row carries a load and, against the first turf's, an
+/// error — finite, as the bench's table needs.
+#[test]
+fn the_turf_indentation_rung_compares_the_tubes_with_their_card() {
+    let chain = SCENE
+        .replace("unload = true", "unload = false")
+        .replace("vtk = true", "vtk = false")
+        + r#"
+[indenter]
+shape = "sphere"
+radius = "150 nm"
+[material]
+model = "card"
+[machine]
+control = "displacement"
+[schedule]
+start = "0 nm"
+[[schedule.segment]]
+kind = "load"
+to = "60 nm"
+rate = "10 nm/s"
+[mesh]
+depth = "1 um"
+[solver]
+kinematics = "finite"
+increments = 12
+"#;
+    let spec = turf::bench::ladder::TurfIndentSpec {
+        scene: &chain,
+        name: "rung-test",
+        depths: &[40.0, 60.0],
+        sphere_steps: 6,
+        other_seeds: &[6],
+    };
+    let dir = std::env::temp_dir().join(format!("turf-rung-{}", std::process::id()));
+    let rows = turf::bench::ladder::turf_indent_rows(&dir, &spec);
+    for r in &rows {
+        println!(
+            "{} | {} | {:?} | {:?} | {}",
+            r.problem, r.fidelity, r.answer, r.rel_error, r.note
+        );
+    }
+    assert_eq!(rows.len(), 2 * 3, "{rows:?}");
+    for r in &rows {
+        let (p, e) = (r.answer.unwrap(), r.rel_error.unwrap());
+        assert!(p > 0.0 && e.is_finite(), "{r:?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
