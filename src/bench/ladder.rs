@@ -661,7 +661,7 @@ pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
             t.fe_cost,
             format!(
                 "card fitted to the same turf's flat compression (rms {:.1} %); {:.0} \
-                 elements; {:.0}× faster than the tubes, {:.1}× with the card's making \
+                 elements; {:.0}× faster than the tubes, {:.2}× with the card's making \
                  (compression + fit {:.1} s{})",
                 100.0 * t.fit_rms,
                 t.fe_elements,
