@@ -500,20 +500,23 @@ fn the_pipeline_writes_the_sphere_load_depth_curve() {
 }
 
 /// The turf indentation rung of `turf bench --turf-indent` on the 4-tube turf: its flat
-/// compression gives the card, a 150 nm sphere indents the tubes (two realisations) and the
-/// card to the same depth, and every row carries a load and, against the first turf's, an
-/// error — finite, as the bench's table needs.
+/// compression gives the card, a 300 nm sphere indents the tubes (two realisations) and the
+/// card to the same depth. Every discrete row carries a load and, against the first turf's, a
+/// finite error (the second turf's is the scatter); the FE row either does too or says why the
+/// FE stopped — without losing the discrete rows. (This turf's flat curve is a step: the four
+/// tubes buckle within the first 2 %, the one-term fit runs to its bound α = 1000 and the
+/// finite-strain FE stops within a few nm, so here it is the stop that is exercised; the
+/// 100-tube rung of docs/benchmarks.md has the FE to the end.) A sphere this large against a
+/// 200 nm box is a plumbing check, not the physics.
 #[test]
 fn the_turf_indentation_rung_compares_the_tubes_with_their_card() {
-    // equal lengths, as in scenes/turf_sphere.toml: a flat top, so the sphere meets tubes early
     let chain = SCENE
         .replace("unload = true", "unload = false")
         .replace("vtk = true", "vtk = false")
-        .replace("length_spread = 0.05", "length_spread = 0.0")
         + r#"
 [indenter]
 shape = "sphere"
-radius = "150 nm"
+radius = "300 nm"
 [material]
 model = "card"
 [machine]
@@ -522,33 +525,37 @@ control = "displacement"
 start = "0 nm"
 [[schedule.segment]]
 kind = "load"
-to = "60 nm"
+to = "100 nm"
 rate = "10 nm/s"
 [mesh]
 depth = "1 um"
 [solver]
 kinematics = "finite"
-increments = 12
+increments = 20
 "#;
     let spec = turf::bench::ladder::TurfIndentSpec {
         scene: &chain,
         name: "rung-test",
-        depths: &[40.0, 60.0],
-        sphere_steps: 6,
+        depths: &[100.0],
+        sphere_steps: 5,
         other_seeds: &[6],
     };
     let dir = std::env::temp_dir().join(format!("turf-rung-{}", std::process::id()));
     let rows = turf::bench::ladder::turf_indent_rows(&dir, &spec);
-    for r in &rows {
-        println!(
-            "{} | {} | {:?} | {:?} | {}",
-            r.problem, r.fidelity, r.answer, r.rel_error, r.note
-        );
-    }
-    assert_eq!(rows.len(), 2 * 3, "{rows:?}");
-    for r in &rows {
+    assert_eq!(rows.len(), 3, "{rows:?}");
+    for r in &rows[..2] {
         let (p, e) = (r.answer.unwrap(), r.rel_error.unwrap());
         assert!(p > 0.0 && e.is_finite(), "{r:?}");
     }
+    assert_eq!(
+        rows[0].rel_error,
+        Some(0.0),
+        "the first turf is the reference"
+    );
+    let fe = &rows[2];
+    assert!(
+        fe.rel_error.is_some_and(f64::is_finite) || fe.note.contains("the FE stopped"),
+        "{fe:?}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

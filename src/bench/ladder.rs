@@ -25,7 +25,7 @@ use crate::discrete::rod_problems::RodProblem;
 use crate::discrete::solve_newton::NewtonParams;
 use crate::halfspace::{pull_off, HalfspaceParams, Problem};
 use crate::laws::LjKind;
-use crate::pipeline::{self, RunOptions, RunReport, StageRecord};
+use crate::pipeline::{self, RunOptions, RunReport, StageError, StageRecord};
 use crate::scene::Stage;
 use crate::theory::{tabor::lambda_per_mu, Control, Model};
 use std::path::{Path, PathBuf};
@@ -265,7 +265,9 @@ struct Quickstart {
 }
 
 /// A scene run through the whole pipeline into `dir`, with its cost; a stage failure is an
-/// error. `fresh`: empty `dir` first, so no stage is reused from its cache.
+/// error, except with `keep_stopped_fe` a continuum stage that stopped (its
+/// `continuum/load_depth.csv` holds the increments it reached). `fresh`: empty `dir` first, so
+/// no stage is reused from its cache.
 struct ChainRun {
     dir: PathBuf,
     loaded: crate::scene::Loaded,
@@ -274,7 +276,13 @@ struct ChainRun {
 }
 
 impl ChainRun {
-    fn new(text: &str, file: &str, dir: PathBuf, fresh: bool) -> Result<Self, String> {
+    fn new(
+        text: &str,
+        file: &str,
+        dir: PathBuf,
+        fresh: bool,
+        keep_stopped_fe: bool,
+    ) -> Result<Self, String> {
         if fresh && dir.exists() {
             std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         }
@@ -287,8 +295,14 @@ impl ChainRun {
         };
         let (report, total) = timed(|| pipeline::run(&loaded, &opts));
         let report = report.map_err(|e| e.to_string())?;
-        if let Some(f) = &report.failure {
-            return Err(format!("{file}: {f}"));
+        match &report.failure {
+            // an FE that stopped keeps its rows so far: the caller reads what it reached
+            Some(StageError::Failed {
+                stage: Stage::Continuum,
+                ..
+            }) if keep_stopped_fe => {}
+            Some(f) => return Err(format!("{file}: {f}")),
+            None => {}
         }
         Ok(ChainRun {
             dir,
@@ -354,6 +368,7 @@ fn quickstart(out: &Path) -> Result<Quickstart, String> {
         "scenes/quickstart.toml",
         out.join("quickstart"),
         true,
+        false,
     )?;
     let dir = &run.dir;
     let discrete_cost = run.cost(Stage::Discrete)?;
@@ -527,7 +542,8 @@ struct TurfIndent {
     height: f64,
     fe: (Vec<f64>, Vec<f64>),
     fe_cost: Cost,
-    fe_elements: f64,
+    /// its mesh, or why it stopped
+    fe_note: String,
     /// the flat-platen compression and the fit that make the card
     card_making: Cost,
     fit_rms: f64,
@@ -536,7 +552,7 @@ struct TurfIndent {
 }
 
 fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, String> {
-    let chain = ChainRun::new(spec.scene, spec.name, out.join(spec.name), false)?;
+    let chain = ChainRun::new(spec.scene, spec.name, out.join(spec.name), false, true)?;
     let fe = read_load_depth(&chain.dir.join("continuum/load_depth.csv"))?;
     let deepest = chain
         .loaded
@@ -557,6 +573,7 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, String> 
             &format!("{} (discrete sphere, seed {s})", spec.name),
             out.join(format!("{}_sphere_seed{s}", spec.name)),
             false,
+            false,
         )?;
         spheres.push(SphereRun {
             seed: s,
@@ -567,14 +584,36 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, String> 
         });
     }
     let (flat, fit) = (chain.cost(Stage::Discrete)?, chain.cost(Stage::Homogenize)?);
+    let (fe_cost, fe_note) = match &chain.report.failure {
+        None => (
+            chain.cost(Stage::Continuum)?,
+            format!("{:.0} elements", chain.value(Stage::Continuum, "elements")?),
+        ),
+        // a stopped stage has no record: its wall is what the recorded stages leave
+        Some(f) => (
+            Cost {
+                wall_s: (chain.total.wall_s
+                    - chain
+                        .report
+                        .summary
+                        .stages
+                        .iter()
+                        .map(|r| r.wall_time_s)
+                        .sum::<f64>())
+                .max(0.0),
+                cpu_s: None,
+            },
+            format!("the FE stopped ({f})"),
+        ),
+    };
     let radius = scene.indenter.as_ref().map(|i| i.radius.0);
     Ok(TurfIndent {
         radius: radius.ok_or_else(|| format!("{}: no [indenter]", spec.name))?,
         box_nm: scene.turf.as_ref().map_or(f64::NAN, |t| t.box_size[0].0),
         height,
         fe,
-        fe_cost: chain.cost(Stage::Continuum)?,
-        fe_elements: chain.value(Stage::Continuum, "elements")?,
+        fe_cost,
+        fe_note,
         card_making: Cost {
             wall_s: flat.wall_s + fit.wall_s,
             cpu_s: flat.cpu_s.zip(fit.cpu_s).map(|(a, b)| a + b),
@@ -656,15 +695,15 @@ pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
         rows.push(Row::new(
             &problem,
             "FE on the card (finite strain, no adhesion)",
-            at(&t.fe),
+            at(&t.fe).map_err(|e| format!("{e}; {}", t.fe_note)),
             (reference, &source),
             t.fe_cost,
             format!(
-                "card fitted to the same turf's flat compression (rms {:.1} %); {:.0} \
-                 elements; {:.0}× faster than the tubes, {:.2}× with the card's making \
+                "card fitted to the same turf's flat compression (rms {:.1} %); {}; \
+                 {:.0}× faster than the tubes, {:.2}× with the card's making \
                  (compression + fit {:.1} s{})",
                 100.0 * t.fit_rms,
-                t.fe_elements,
+                t.fe_note,
                 fe_speedup(first),
                 chain_speedup(first),
                 t.card_making.wall_s,

@@ -220,7 +220,8 @@ pub struct BenchOptions {
     pub quick: bool,
     /// folder of the turf chain's own runs (`<out>/quickstart`, `<out>/turf_sphere…`)
     pub out: PathBuf,
-    /// also run the turf indentation rung ([`ladder::TURF_SPHERE`]: minutes)
+    /// also run the turf indentation rung ([`ladder::TURF_SPHERE`]: ≈ 40 min cold; its
+    /// discrete stages are cached under `out`, so a re-run takes seconds)
     pub turf_indent: bool,
 }
 

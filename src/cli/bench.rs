@@ -15,7 +15,8 @@ pub struct BenchArgs {
     pub quick: bool,
     /// Also run the turf indentation rung: a 1 µm turf (≈ 100 tubes) indented by a sphere
     /// discretely (two realisations) and through the card fitted to its flat compression
-    /// (scenes/turf_sphere.toml; minutes, docs/benchmarks.md "Turf indentation rung").
+    /// (scenes/turf_sphere.toml; ≈ 40 min cold, its discrete stages cached under the output
+    /// folder for re-runs: docs/benchmarks.md "Turf indentation rung").
     #[arg(long)]
     pub turf_indent: bool,
     /// Output folder (default runs/bench).
