@@ -238,18 +238,24 @@ pub fn turf_rows(out: &Path) -> Vec<Row> {
                 ),
             ]
         }
-        Err(e) => vec![Row::new(
-            problem,
-            "quickstart chain",
-            Err(e),
-            (f64::NAN, "—"),
-            Cost {
-                wall_s: 0.0,
-                cpu_s: None,
-            },
-            String::new(),
-        )],
+        Err(e) => vec![failed_row(problem, "quickstart chain", e)],
     }
+}
+
+/// The one row of a chain that failed before it had an answer.
+fn failed_row(problem: &str, fidelity: &str, e: String) -> Row {
+    let cost = Cost {
+        wall_s: 0.0,
+        cpu_s: None,
+    };
+    Row::new(
+        problem,
+        fidelity,
+        Err(e),
+        (f64::NAN, "—"),
+        cost,
+        String::new(),
+    )
 }
 
 struct Quickstart {
@@ -507,7 +513,7 @@ fn sphere_scene(
         .and_then(|i| i.get("radius"))
         .cloned()
         .ok_or_else(|| format!("{}: no indenter.radius", spec.name))?;
-    doc.retain(|k, _| matches!(&k[..], "scene" | "turf" | "compression"));
+    doc.retain(|k, _| matches!(k, "scene" | "turf" | "compression"));
     let Some(Value::Table(k)) = doc.get_mut("compression") else {
         return Err(format!("{}: no [compression]", spec.name));
     };
@@ -631,17 +637,8 @@ pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
     let t = match turf_indent(out, spec) {
         Ok(t) => t,
         Err(e) => {
-            return vec![Row::new(
-                "turf indentation by a sphere: discrete tubes against the card",
-                spec.name,
-                Err(e),
-                (f64::NAN, "—"),
-                Cost {
-                    wall_s: 0.0,
-                    cpu_s: None,
-                },
-                String::new(),
-            )]
+            let problem = "turf indentation by a sphere: discrete tubes against the card";
+            return vec![failed_row(problem, spec.name, e)];
         }
     };
     let fe_speedup = |s: &SphereRun| s.cost.wall_s / t.fe_cost.wall_s.max(1e-9);
