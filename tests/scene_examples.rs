@@ -29,6 +29,7 @@ fn every_scene_in_the_folder_loads_and_is_tested_here() {
         "seed_card.toml",
         "turf_compression.toml",
         "turf_indent.toml",
+        "turf_sphere.toml",
     ];
     let mut found: Vec<String> = std::fs::read_dir(scenes_dir())
         .unwrap()

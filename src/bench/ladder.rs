@@ -9,6 +9,11 @@
 //! - The turf (full ladder only): the quickstart scene's 9 tubes compressed discretely against
 //!   the hyperfoam card homogenised from them, the card's error against the discrete curve and
 //!   the speed-up, and the card's FE indentation cost.
+//! - Turf indentation (`--turf-indent`, [`TURF_SPHERE`]): a rigid frictionless sphere pressed
+//!   into a 1 µm turf of ≈ 100 tubes, discretely (the reference; a second realisation gives the
+//!   scatter) and by the FE on the hyperfoam card homogenised from the same turf's flat-platen
+//!   compression (hyperfoam, seed 5.3; finite strain, no adhesion): the loads at fixed
+//!   depths, the card's error and the speed-ups.
 
 use super::sweeps::{hertz_load, HERTZ_E_STAR};
 use super::{timed, Cost, Row};
@@ -20,8 +25,10 @@ use crate::discrete::rod_problems::RodProblem;
 use crate::discrete::solve_newton::NewtonParams;
 use crate::halfspace::{pull_off, HalfspaceParams, Problem};
 use crate::laws::LjKind;
+use crate::pipeline::{self, RunOptions, RunReport, StageError, StageRecord};
+use crate::scene::Stage;
 use crate::theory::{tabor::lambda_per_mu, Control, Model};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Bisshopp–Drucker tip deflection δ_v/L at PL²/K = 2, to five decimals (Mattiasson, Int. J.
 /// Numer. Meth. Eng. 17, 145, 1981; checked by shooting in tests/discrete_rod_cantilever.rs).
@@ -225,23 +232,30 @@ pub fn turf_rows(out: &Path) -> Vec<Row> {
                     Ok(q.fe_peak),
                     (f64::NAN, "none"),
                     q.fe_cost,
-                    "discrete sphere indentation of the tubes is not built: no error to report"
+                    "adhesive and viscoelastic: no discrete counterpart (the tubes have neither); \
+                     the card against a discrete sphere indentation is the --turf-indent rung"
                         .into(),
                 ),
             ]
         }
-        Err(e) => vec![Row::new(
-            problem,
-            "quickstart chain",
-            Err(e),
-            (f64::NAN, "—"),
-            Cost {
-                wall_s: 0.0,
-                cpu_s: None,
-            },
-            String::new(),
-        )],
+        Err(e) => vec![failed_row(problem, "quickstart chain", e)],
     }
+}
+
+/// The one row of a chain that failed before it had an answer.
+fn failed_row(problem: &str, fidelity: &str, e: String) -> Row {
+    let cost = Cost {
+        wall_s: 0.0,
+        cpu_s: None,
+    };
+    Row::new(
+        problem,
+        fidelity,
+        Err(e),
+        (f64::NAN, "—"),
+        cost,
+        String::new(),
+    )
 }
 
 struct Quickstart {
@@ -256,44 +270,117 @@ struct Quickstart {
     fe_cost: Cost,
 }
 
-fn quickstart(out: &Path) -> Result<Quickstart, String> {
-    use crate::homogenize::hyperfoam::Mode;
-    use crate::pipeline::{self, RunOptions};
-    use crate::scene::Stage;
-    let dir = out.join("quickstart");
-    // a cached stage would cost nothing: start from an empty folder
-    if dir.exists() {
-        std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+/// A scene run through the whole pipeline into `dir`, with its cost; a stage failure is an
+/// error, except with `keep_stopped_fe` a continuum stage that stopped (its
+/// `continuum/load_depth.csv` holds the increments it reached). `fresh`: empty `dir` first, so
+/// no stage is reused from its cache.
+struct ChainRun {
+    dir: PathBuf,
+    loaded: crate::scene::Loaded,
+    report: RunReport,
+    total: Cost,
+}
+
+impl ChainRun {
+    fn new(
+        text: &str,
+        file: &str,
+        dir: PathBuf,
+        fresh: bool,
+        keep_stopped_fe: bool,
+    ) -> Result<Self, String> {
+        if fresh && dir.exists() {
+            std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        let loaded =
+            crate::scene::load_str(text, Path::new(file), &[]).map_err(|e| e.to_string())?;
+        let opts = RunOptions {
+            out: Some(dir.clone()),
+            progress: false,
+            resume: false,
+        };
+        let (report, total) = timed(|| pipeline::run(&loaded, &opts));
+        let report = report.map_err(|e| e.to_string())?;
+        match &report.failure {
+            // an FE that stopped keeps its rows so far: the caller reads what it reached
+            Some(StageError::Failed {
+                stage: Stage::Continuum,
+                ..
+            }) if keep_stopped_fe => {}
+            Some(f) => return Err(format!("{file}: {f}")),
+            None => {}
+        }
+        Ok(ChainRun {
+            dir,
+            loaded,
+            report,
+            total,
+        })
     }
-    let file = Path::new("scenes/quickstart.toml");
-    let loaded = crate::scene::load_str(include_str!("../../scenes/quickstart.toml"), file, &[])
-        .map_err(|e| e.to_string())?;
-    let opts = RunOptions {
-        out: Some(dir.clone()),
-        progress: false,
-        resume: false,
-    };
-    let (report, total) = timed(|| pipeline::run(&loaded, &opts));
-    let report = report.map_err(|e| e.to_string())?;
-    if let Some(f) = report.failure {
-        return Err(f.to_string());
-    }
-    let stage = |s: Stage| {
-        report
+
+    fn stage(&self, s: Stage) -> Result<&StageRecord, String> {
+        self.report
             .summary
             .stages
             .iter()
             .find(|r| r.stage == s)
-            .ok_or_else(|| format!("no {s:?} stage in the quickstart summary"))
-    };
-    // the stage records carry wall time only; the CPU of the whole run is split by wall share
-    let share = |wall: f64| Cost {
-        wall_s: wall,
-        cpu_s: total.cpu_s.map(|c| c * wall / total.wall_s.max(1e-9)),
-    };
-    let discrete_cost = share(stage(Stage::Discrete)?.wall_time_s);
-    let fit_s = stage(Stage::Homogenize)?.wall_time_s;
-    let fe = stage(Stage::Continuum)?;
+            .ok_or_else(|| format!("no {s:?} stage in {}", self.dir.display()))
+    }
+
+    fn value(&self, s: Stage, name: &str) -> Result<f64, String> {
+        self.stage(s)?
+            .values
+            .get(name)
+            .copied()
+            .ok_or_else(|| format!("the {s} stage reported no {name}"))
+    }
+
+    /// The cost of stage `s`: the stage records carry wall time only, so the CPU of the whole
+    /// run is split by wall share. A stage reused from the cache costs what it cost when it was
+    /// computed: the sum of its own `wall_time_*` values, CPU unknown.
+    fn cost(&self, s: Stage) -> Result<Cost, String> {
+        let r = self.stage(s)?;
+        if r.cached {
+            let wall = r
+                .values
+                .iter()
+                .filter(|(k, _)| k.starts_with("wall_time_"))
+                .map(|(_, v)| v)
+                .sum();
+            return Ok(Cost {
+                wall_s: wall,
+                cpu_s: None,
+            });
+        }
+        Ok(Cost {
+            wall_s: r.wall_time_s,
+            cpu_s: self
+                .total
+                .cpu_s
+                .map(|c| c * r.wall_time_s / self.total.wall_s.max(1e-9)),
+        })
+    }
+
+    /// Whether stage `s` was reused from the cache.
+    fn cached(&self, s: Stage) -> bool {
+        self.stage(s).is_ok_and(|r| r.cached)
+    }
+}
+
+fn quickstart(out: &Path) -> Result<Quickstart, String> {
+    use crate::homogenize::hyperfoam::Mode;
+    let run = ChainRun::new(
+        include_str!("../../scenes/quickstart.toml"),
+        "scenes/quickstart.toml",
+        out.join("quickstart"),
+        true,
+        false,
+    )?;
+    let dir = &run.dir;
+    let discrete_cost = run.cost(Stage::Discrete)?;
+    let fit_s = run.stage(Stage::Homogenize)?.wall_time_s;
+    let fe_cost = run.cost(Stage::Continuum)?;
+    let fe = run.stage(Stage::Continuum)?;
     let fe_peak = *fe
         .values
         .get("max_load_nN")
@@ -335,6 +422,291 @@ fn quickstart(out: &Path) -> Result<Quickstart, String> {
         card_cost,
         fit_s,
         fe_peak,
-        fe_cost: share(fe.wall_time_s),
+        fe_cost,
     })
+}
+
+/// The turf indentation rung: a scene of the full chain (flat-platen compression of a turf →
+/// hyperfoam card → frictionless sphere on the card, no adhesion, rigid displacement control)
+/// whose `[scene]`, `[turf]` and `[compression]` are also run with the sphere of its
+/// `[indenter]` pressed on the tubes themselves, to the schedule's deepest depth.
+#[derive(Debug, Clone)]
+pub struct TurfIndentSpec<'a> {
+    /// the chain scene's text (e.g. `scenes/turf_sphere.toml`)
+    pub scene: &'a str,
+    /// its name, for messages and the output folders
+    pub name: &'a str,
+    /// depths (nm) at which the loads are compared, within the FE's schedule
+    pub depths: &'a [f64],
+    /// steps of the discrete sphere's drive
+    pub sphere_steps: usize,
+    /// seeds of further discrete turfs (same statistics) indented by the same sphere: the
+    /// realisation scatter the card's error is to be judged against
+    pub other_seeds: &'a [u64],
+}
+
+/// The rung of `turf bench --turf-indent`: `scenes/turf_sphere.toml`, loads at 40, 70 and
+/// 100 nm, a second turf (seed 4) for the scatter.
+pub const TURF_SPHERE: TurfIndentSpec<'static> = TurfIndentSpec {
+    scene: include_str!("../../scenes/turf_sphere.toml"),
+    name: "turf_sphere",
+    depths: &[40.0, 70.0, 100.0],
+    sphere_steps: 11,
+    other_seeds: &[4],
+};
+
+/// `y(x)` on the piecewise-linear curve through `(xs, ys)` (`xs` increasing), `None` outside.
+fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
+    let i = xs.windows(2).position(|w| w[0] <= x && x <= w[1])?;
+    let t = (x - xs[i]) / (xs[i + 1] - xs[i]).max(f64::MIN_POSITIVE);
+    Some(ys[i] + t * (ys[i + 1] - ys[i]))
+}
+
+/// The `(depth_nm, load_nN)` columns of a `load_depth.csv` written by the discrete or the
+/// continuum stage (loading part only: up to the deepest point).
+fn read_load_depth(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .ok_or_else(|| format!("{}: no column {name}", path.display()))
+    };
+    let (d, p) = (col("depth_nm")?, col("load_nN")?);
+    let (mut depth, mut load) = (Vec::new(), Vec::new());
+    for (i, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        let num = |c: usize| {
+            cells
+                .get(c)
+                .and_then(|v| v.parse::<f64>().ok())
+                .ok_or_else(|| format!("{}: line {}: not a number", path.display(), i + 2))
+        };
+        let (x, y) = (num(d)?, num(p)?);
+        if depth.last().is_some_and(|&last| x < last) {
+            break;
+        }
+        depth.push(x);
+        load.push(y);
+    }
+    Ok((depth, load))
+}
+
+/// The discrete sphere scene derived from the chain scene: its `[scene]` (with `seed`),
+/// `[turf]` and `[compression]`, the sphere of `[indenter]` driven to `depth` below the
+/// relaxed height `height` in `steps` steps.
+fn sphere_scene(
+    spec: &TurfIndentSpec,
+    seed: u64,
+    depth: f64,
+    height: f64,
+) -> Result<String, String> {
+    use toml::Value;
+    let mut doc: toml::Table = spec
+        .scene
+        .parse()
+        .map_err(|e: toml::de::Error| format!("{}: {}", spec.name, e.message()))?;
+    let radius = doc
+        .get("indenter")
+        .and_then(|i| i.get("radius"))
+        .cloned()
+        .ok_or_else(|| format!("{}: no indenter.radius", spec.name))?;
+    doc.retain(|k, _| matches!(k, "scene" | "turf" | "compression"));
+    let Some(Value::Table(k)) = doc.get_mut("compression") else {
+        return Err(format!("{}: no [compression]", spec.name));
+    };
+    k.insert("indenter".into(), Value::String("sphere".into()));
+    k.insert("sphere_radius".into(), radius);
+    k.insert("to".into(), Value::Float(depth / height));
+    k.insert("steps".into(), Value::Integer(spec.sphere_steps as i64));
+    k.insert("unload".into(), Value::Boolean(false));
+    let Some(Value::Table(s)) = doc.get_mut("scene") else {
+        return Err(format!("{}: no [scene]", spec.name));
+    };
+    s.insert("seed".into(), Value::Integer(seed as i64));
+    toml::to_string(&doc).map_err(|e| e.to_string())
+}
+
+/// Said of a cost taken from the stage cache.
+const CACHED: &str = " (reused from the stage cache: the wall recorded when it was computed)";
+
+/// A discrete sphere indentation of one turf.
+struct SphereRun {
+    seed: u64,
+    curve: (Vec<f64>, Vec<f64>),
+    cost: Cost,
+    tubes: f64,
+    cached: bool,
+}
+
+/// Everything the rung measured.
+struct TurfIndent {
+    radius: f64,
+    box_nm: f64,
+    height: f64,
+    fe: (Vec<f64>, Vec<f64>),
+    fe_cost: Cost,
+    /// its mesh, or why it stopped
+    fe_note: String,
+    /// the flat-platen compression and the fit that make the card
+    card_making: Cost,
+    fit_rms: f64,
+    card_cached: bool,
+    spheres: Vec<SphereRun>,
+}
+
+fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, String> {
+    let chain = ChainRun::new(spec.scene, spec.name, out.join(spec.name), false, true)?;
+    let fe = read_load_depth(&chain.dir.join("continuum/load_depth.csv"))?;
+    let deepest = chain
+        .loaded
+        .base
+        .derived
+        .schedule
+        .as_ref()
+        .map(|t| t.max_depth_nm)
+        .ok_or_else(|| format!("{}: no [schedule]", spec.name))?;
+    let height = chain.value(Stage::Discrete, "turf_height_nm")?;
+    let scene = &chain.loaded.base.scene;
+    let seed = scene.scene.seed;
+    let mut spheres = Vec::new();
+    for &s in std::iter::once(&seed).chain(spec.other_seeds) {
+        let text = sphere_scene(spec, s, deepest, height)?;
+        let run = ChainRun::new(
+            &text,
+            &format!("{} (discrete sphere, seed {s})", spec.name),
+            out.join(format!("{}_sphere_seed{s}", spec.name)),
+            false,
+            false,
+        )?;
+        spheres.push(SphereRun {
+            seed: s,
+            curve: read_load_depth(&run.dir.join("load_depth.csv"))?,
+            cost: run.cost(Stage::Discrete)?,
+            tubes: run.value(Stage::Discrete, "tubes")?,
+            cached: run.cached(Stage::Discrete),
+        });
+    }
+    let (flat, fit) = (chain.cost(Stage::Discrete)?, chain.cost(Stage::Homogenize)?);
+    let (fe_cost, fe_note) = match &chain.report.failure {
+        None => (
+            chain.cost(Stage::Continuum)?,
+            format!("{:.0} elements", chain.value(Stage::Continuum, "elements")?),
+        ),
+        // a stopped stage has no record: its wall is what the recorded stages leave
+        Some(f) => (
+            Cost {
+                wall_s: (chain.total.wall_s
+                    - chain
+                        .report
+                        .summary
+                        .stages
+                        .iter()
+                        .map(|r| r.wall_time_s)
+                        .sum::<f64>())
+                .max(0.0),
+                cpu_s: None,
+            },
+            format!("the FE stopped ({f})"),
+        ),
+    };
+    let radius = scene.indenter.as_ref().map(|i| i.radius.0);
+    Ok(TurfIndent {
+        radius: radius.ok_or_else(|| format!("{}: no [indenter]", spec.name))?,
+        box_nm: scene.turf.as_ref().map_or(f64::NAN, |t| t.box_size[0].0),
+        height,
+        fe,
+        fe_cost,
+        fe_note,
+        card_making: Cost {
+            wall_s: flat.wall_s + fit.wall_s,
+            cpu_s: flat.cpu_s.zip(fit.cpu_s).map(|(a, b)| a + b),
+        },
+        fit_rms: chain.value(Stage::Homogenize, "fit_rms_rel")?,
+        card_cached: chain.cached(Stage::Discrete),
+        spheres,
+    })
+}
+
+/// The rung's rows: at each depth of `spec`, the discrete load on the sphere (the reference,
+/// the scene's own seed), the FE load on the card (its error; speed-ups in the note) and the
+/// discrete load of each further turf (the realisation scatter).
+pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
+    let t = match turf_indent(out, spec) {
+        Ok(t) => t,
+        Err(e) => {
+            let problem = "turf indentation by a sphere: discrete tubes against the card";
+            return vec![failed_row(problem, spec.name, e)];
+        }
+    };
+    let fe_speedup = |s: &SphereRun| s.cost.wall_s / t.fe_cost.wall_s.max(1e-9);
+    let chain_speedup =
+        |s: &SphereRun| s.cost.wall_s / (t.fe_cost.wall_s + t.card_making.wall_s).max(1e-9);
+    let mut rows = Vec::new();
+    for &d in spec.depths {
+        let problem = format!(
+            "turf indentation by a {:.0} nm sphere: load at δ = {d:.0} nm (nN)",
+            t.radius
+        );
+        let at = |c: &(Vec<f64>, Vec<f64>)| {
+            interpolate(&c.0, &c.1, d).ok_or_else(|| {
+                format!(
+                    "δ = {d} nm is beyond the curve (to {:.1} nm)",
+                    c.0.last().unwrap_or(&0.0)
+                )
+            })
+        };
+        let Some(first) = t.spheres.first() else {
+            continue;
+        };
+        let reference = at(&first.curve).unwrap_or(f64::NAN);
+        let source = format!("discrete tubes, seed {}", first.seed);
+        for (i, s) in t.spheres.iter().enumerate() {
+            let note = format!(
+                "{:.0} tubes in a {:.0} nm box, height {:.0} nm; √(2Rδ) = {:.0} nm; {} \
+                 steps; the cost is the whole curve's{}{}",
+                s.tubes,
+                t.box_nm,
+                t.height,
+                (2.0 * t.radius * d).sqrt(),
+                spec.sphere_steps,
+                if i == 0 {
+                    ""
+                } else {
+                    "; another realisation: its difference is the scatter"
+                },
+                if s.cached { CACHED } else { "" }
+            );
+            let fidelity = format!("discrete sphere (seed {})", s.seed);
+            rows.push(Row::new(
+                &problem,
+                &fidelity,
+                at(&s.curve),
+                (reference, &source),
+                s.cost,
+                note,
+            ));
+        }
+        rows.push(Row::new(
+            &problem,
+            "FE on the card (finite strain, no adhesion)",
+            at(&t.fe).map_err(|e| format!("{e}; {}", t.fe_note)),
+            (reference, &source),
+            t.fe_cost,
+            format!(
+                "card fitted to the same turf's flat compression (rms {:.1} %); {}; \
+                 {:.0}× faster than the tubes, {:.2}× with the card's making \
+                 (compression + fit {:.1} s{})",
+                100.0 * t.fit_rms,
+                t.fe_note,
+                fe_speedup(first),
+                chain_speedup(first),
+                t.card_making.wall_s,
+                if t.card_cached { CACHED } else { "" }
+            ),
+        ));
+    }
+    rows
 }

@@ -218,8 +218,11 @@ impl BenchReport {
 pub struct BenchOptions {
     /// skip the FE pull-offs at μ = 2, the turf chain and the finest sweep points
     pub quick: bool,
-    /// folder of the turf chain's own run (`<out>/quickstart`)
+    /// folder of the turf chain's own runs (`<out>/quickstart`, `<out>/turf_sphere…`)
     pub out: PathBuf,
+    /// also run the turf indentation rung ([`ladder::TURF_SPHERE`]: ≈ 40 min cold; its
+    /// discrete stages are cached under `out`, so a re-run takes seconds)
+    pub turf_indent: bool,
 }
 
 /// One task of the bench: its name (for progress) and what it adds to the report.
@@ -247,6 +250,15 @@ fn tasks(opts: &BenchOptions) -> Vec<Task<'_>> {
         t.push((
             "turf chain",
             Box::new(|r| r.rows.extend(ladder::turf_rows(&opts.out))),
+        ));
+    }
+    if opts.turf_indent {
+        t.push((
+            "turf indentation: tubes against the card",
+            Box::new(|r| {
+                r.rows
+                    .extend(ladder::turf_indent_rows(&opts.out, &ladder::TURF_SPHERE))
+            }),
         ));
     }
     t.push((

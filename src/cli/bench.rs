@@ -13,6 +13,12 @@ pub struct BenchArgs {
     /// minute in release instead of several).
     #[arg(long)]
     pub quick: bool,
+    /// Also run the turf indentation rung: a 1 µm turf (≈ 100 tubes) indented by a sphere
+    /// discretely (two realisations) and through the card fitted to its flat compression
+    /// (scenes/turf_sphere.toml; ≈ 40 min cold, its discrete stages cached under the output
+    /// folder for re-runs: docs/benchmarks.md "Turf indentation rung").
+    #[arg(long)]
+    pub turf_indent: bool,
     /// Output folder (default runs/bench).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -27,6 +33,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     let opts = BenchOptions {
         quick: args.quick,
         out: out.clone(),
+        turf_indent: args.turf_indent,
     };
     let bar = (!args.json && std::io::stderr().is_terminal())
         .then(|| turf::pipeline::progress_bar(bench::task_count(&opts) as u64, "tasks"));
