@@ -13,8 +13,8 @@ CalculiX 2.20's *HYPERFOAM stress is wrong at near-isotropic small strain: uniax
 jumps there keep Newton from converging (session 5's failures). So the block is hyperfoam only
 within `--far` contact radii of the first contact point and beyond that the foam's small-strain
 limit, linear elastic E = 2μ, ν = 0 (St Venant–Kirchhoff under NLGEOM); moving that boundary
-from 4a to 6a changes the load at 100 nm by 0.08 % (docs/peers.md), so at 5a the far-field
-linearisation costs a few 1e-4.
+from 4a to 8a lowers the load at 100 nm by 0.10 %, and a C/r² fit puts 8a (the default) 0.03 %
+above the all-foam limit (docs/peers.md). Foam out to 20a does not converge.
 
 Prints one JSON line: elements, wall time of ccx, and the load (nN, 180·RF: CalculiX reports
 axisymmetric reactions for a 2° segment) at every converged increment, with the depth. With
