@@ -1,6 +1,7 @@
 """Print the turf-vs-peer table (markdown) from the JSON results written by run.sh."""
 
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -9,10 +10,38 @@ def lines(path):
     return [json.loads(l) for l in Path(path).read_text().splitlines() if l.strip()]
 
 
-def main(out):
-    out = Path(out)
+def load_at(depths, loads, d):
+    """The load at depth d between the recorded increments, as the local power law through the
+    two neighbours (P ∝ δ^n with n from 1.5 to ~1.3 here; linear interpolation would be 0.2 %
+    off across a 3.75 nm step of this convex curve), linear from the origin."""
+    pts = sorted(zip(depths, loads))
+    for (d0, p0), (d1, p1) in zip(pts, pts[1:]):
+        if d0 <= d <= d1:
+            if d == d1 or d1 <= d0:
+                return p1
+            if d0 <= 0.0 or p0 <= 0.0:
+                return p0 + (p1 - p0) * (d - d0) / (d1 - d0)
+            return p0 * (d / d0) ** (math.log(p1 / p0) / math.log(d1 / d0))
+    raise ValueError(f"depth {d} nm outside the recorded curve ({pts[0][0]}..{pts[-1][0]} nm)")
+
+
+def turf_curve(out, name):
+    """(depths, loads, wall time, elements) of a turf run's continuum stage."""
+    run = json.loads((out / f"{name}.json").read_text())
+    cont = next(s for s in run["stages"] if s["stage"] == "continuum")
+    rows = (out / name / "continuum" / "load_depth.csv").read_text().splitlines()
+    head = rows[0].split(",")
+    cols = [[float(v) for v in r.split(",")] for r in rows[1:] if r.strip()]
+    i_d, i_p = head.index("depth_nm"), head.index("load_nN")
+    return [c[i_d] for c in cols], [c[i_p] for c in cols], cont["wall_time_s"], cont["values"]["elements"]
+
+
+FOAM_DEPTHS = (25.0, 50.0, 100.0)
+
+
+def cantilever_rows(out):
+    """The single rod: turf's static Newton vs PyElastica brought to rest."""
     rows = []
-    # cantilever
     turf = json.loads((out / "turf_cantilever.json").read_text())
     values = turf["stages"][0]["values"]
     dy = -values["rod0_tip_dy_nm"] / values["rod0_length_nm"]
@@ -26,7 +55,12 @@ def main(out):
             f"{p['error_dy_relative']:.1e}", f"{p['wall_time_s']:.1f}",
             f"{p['wall_time_s'] / t_turf:.0f}",
         ))
-    # half-space pull-off
+    return rows
+
+
+def halfspace_rows(out):
+    """Half-space pull-off: turf's axisymmetric solver vs Adhesion/ContactMechanics."""
+    rows = []
     hs = json.loads((out / "turf_halfspace_mu1.json").read_text())
     ref = hs["pull_off_normalized"]
     t_hs = hs["cost"]["wall_time_s"]
@@ -37,7 +71,12 @@ def main(out):
             f"{(p['pull_off_normalised'] - ref) / abs(ref):+.1e} vs turf", f"{p['wall_time_s']:.1f}",
             f"{p['wall_time_s'] / t_hs:.0f}",
         ))
-    # Hertz
+    return rows
+
+
+def hertz_rows(out):
+    """Hertz by FE: turf CST vs CalculiX CAX4."""
+    rows = []
     hz = json.loads((out / "turf_hertz.json").read_text())
     cont = next(s for s in hz["stages"] if s["stage"] == "continuum")
     p_hertz = 4.0 / 3.0 * (1.0 / (1.0 - 0.3**2)) * 1000.0**0.5 * 4.0**1.5
@@ -51,6 +90,36 @@ def main(out):
             "", f"CalculiX ({p['elements']} CAX4, a/{p['per_radius']:g}, loading only)",
             f"{p['error_relative']:+.2%}", f"{p['wall_time_s']:.1f}", f"{p['wall_time_s'] / t_fe:.0f}",
         ))
+    return rows
+
+
+def hyperfoam_rows(out):
+    """Hyperfoam sphere: loads at FOAM_DEPTHS, differences against turf's finest mesh (a/40)."""
+    rows = []
+    fine = turf_curve(out, "turf_hyperfoam_sphere_a40")
+    ref = [load_at(fine[0], fine[1], d) for d in FOAM_DEPTHS]
+    t_foam = turf_curve(out, "turf_hyperfoam_sphere")[2]
+    runs = [(f"turf FE ({c[3]:.0f} CST{', a/40' if n.endswith('a40') else ''})", c[0], c[1], c[2])
+            for n in ("turf_hyperfoam_sphere", "turf_hyperfoam_sphere_a40") for c in [turf_curve(out, n)]]
+    runs += [(f"CalculiX ({p['elements']} CAX4, a/{p['per_radius']:g})", p["depth_nm"], p["load_nN"], p["wall_time_s"])
+             for p in lines(out / "calculix_hyperfoam_sphere.jsonl")]
+    first = "hyperfoam sphere, R = 1 µm, load at " + " / ".join(f"{d:g}" for d in FOAM_DEPTHS) + " nm"
+    for k, (code, ds, ps, wall) in enumerate(runs):
+        loads = [load_at(ds, ps, d) for d in FOAM_DEPTHS]
+        worst = max(abs(p / r - 1.0) for p, r in zip(loads, ref))
+        rows.append((
+            first if k == 0 else "", code, " / ".join(f"{p:.0f}" for p in loads) + f" nN (max {worst:.2%} vs turf a/40)",
+            f"{wall:.1f}", f"{wall / t_foam:.0f}",
+        ))
+    return rows
+
+
+SECTIONS = {"cantilever": cantilever_rows, "halfspace": halfspace_rows, "hertz": hertz_rows, "hyperfoam": hyperfoam_rows}
+
+
+def main(out, names):
+    """The table of the sections `names` (all by default) from the results in `out`."""
+    rows = [r for n in names for r in SECTIONS[n](Path(out))]
     print("| problem | code | error | wall time, s | time / turf |")
     print("|---|---|---|---|---|")
     for r in rows:
@@ -58,4 +127,8 @@ def main(out):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "results")
+    # python compare.py [RESULTS_DIR [SECTION ...]], SECTION one of SECTIONS (default: all)
+    bad = [n for n in sys.argv[2:] if n not in SECTIONS]
+    if bad:
+        sys.exit(f"compare.py: unknown section {bad[0]!r}; allowed: {', '.join(SECTIONS)}")
+    main(sys.argv[1] if len(sys.argv) > 1 else "results", sys.argv[2:] or list(SECTIONS))

@@ -3,7 +3,6 @@
 #
 #   bash benches/peers/run.sh            # all peers, default sizes (tens of minutes on 2 cores)
 #   QUICK=1 bash benches/peers/run.sh    # coarse peer settings, a few minutes
-#   FOAM_CCX=1 bash benches/peers/run.sh # also the CalculiX hyperfoam sphere (does not converge yet)
 #
 # Installs the Python peers from PyPI into benches/peers/.venv (pinned in requirements.txt) and
 # CalculiX from Debian when missing; builds turf in release. Results go to
@@ -52,12 +51,17 @@ for m in $meshes; do
     "$py" "$here/calculix/hertz.py" --per-radius "${m%%:*}" --ratio "${m##*:}" >> "$out/calculix_hertz.jsonl"
 done
 
-# 4. hyperfoam sphere at finite deformation, no adhesion: turf's scene; the CalculiX side
-#    (calculix/hyperfoam.py) did not converge in session 5 (docs/peers.md), so it runs only
-#    with FOAM_CCX=1
+# 4. hyperfoam sphere at finite deformation, no adhesion: turf's scene at a/20 and a/40 vs
+#    CalculiX CAX4 *HYPERFOAM (foam within 5a, its small-strain limit beyond; docs/peers.md),
+#    after the one-element check of CalculiX's *HYPERFOAM against the closed form
 "$turf" run "$here/hyperfoam_sphere.toml" --out "$out/turf_hyperfoam_sphere" --json > "$out/turf_hyperfoam_sphere.json"
-if [ -n "${FOAM_CCX:-}" ]; then
-    "$py" "$here/calculix/hyperfoam.py" --per-radius 10 > "$out/calculix_hyperfoam_sphere.jsonl"
-fi
+"$turf" run "$here/hyperfoam_sphere.toml" --set mesh.smallest="7.91 nm" \
+    --out "$out/turf_hyperfoam_sphere_a40" --json > "$out/turf_hyperfoam_sphere_a40.json"
+"$py" "$here/calculix/hyperfoam.py" --check > "$out/calculix_hyperfoam_check.jsonl"
+if [ -n "${QUICK:-}" ]; then foams="10"; else foams="10 20"; fi
+: > "$out/calculix_hyperfoam_sphere.jsonl"
+for n in $foams; do
+    "$py" "$here/calculix/hyperfoam.py" --per-radius "$n" >> "$out/calculix_hyperfoam_sphere.jsonl"
+done
 
 "$py" "$here/compare.py" "$out"

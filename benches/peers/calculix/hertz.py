@@ -53,9 +53,13 @@ def linear_block():
     return f"*MATERIAL, NAME=BLOCK\n*ELASTIC\n{YOUNGS}, {POISSON}\n"
 
 
-def write_input(path, per_radius, ratio, block, penalty, depth=DEPTH, material=None, step="*STEP, INC=200\n*STATIC\n0.1, 1.0, 1e-5, 0.2\n"):
+def write_input(path, per_radius, ratio, block, penalty, depth=DEPTH, material=None, step="*STEP, INC=200\n*STATIC\n0.1, 1.0, 1e-5, 0.2\n", far=None, ramp=None):
     """The deck: the block (`material`: *MATERIAL, NAME=BLOCK lines; default linear_block()) and
-    the stiff sphere pressed `depth` nm; mesh sizes from the contact radius a = √(R·depth)."""
+    the stiff sphere pressed `depth` nm; mesh sizes from the contact radius a = √(R·depth).
+    `far` = (radius over a, *MATERIAL, NAME=FAR lines): block elements whose centre lies farther
+    than that from the first contact point get the FAR material instead (hyperfoam.py).
+    `ramp`: (step time, fraction of the depth) points of the imposed displacement (default:
+    proportional to the step time)."""
     A = math.sqrt(R * depth)
     h0 = A / per_radius
     rs = graded(2.0 * A, h0, ratio, block * A)
@@ -80,6 +84,13 @@ def write_input(path, per_radius, ratio, block, penalty, depth=DEPTH, material=N
             if j == ny - 2 and rs[i] < 3.0 * A:
                 top_faces.append((len(elems), 3))
     n_specimen = len(elems)
+    far_ids = set()
+    if far is not None:
+        for k, (_, c) in enumerate(elems, 1):
+            x = sum(nodes[n - 1][0] for n in c) / 4.0
+            y = sum(nodes[n - 1][1] for n in c) / 4.0
+            if math.hypot(x, y) > far[0] * A:
+                far_ids.add(k)
     # indenter: radial stations as the specimen's up to 3a, vertical layers from the sphere up
     ri = [x for x in rs if x <= 3.0 * A + 1e-9]
     surf = [R - math.sqrt(R * R - x * x) for x in ri]
@@ -99,9 +110,13 @@ def write_input(path, per_radius, ratio, block, penalty, depth=DEPTH, material=N
         f.write("*HEADING\nturf peer: Hertz, stiff sphere on elastic block (nm, nN, GPa)\n*NODE\n")
         for k, (x, y) in enumerate(nodes, 1):
             f.write(f"{k}, {x:.10g}, {y:.10g}\n")
-        f.write("*ELEMENT, TYPE=CAX4, ELSET=SPECIMEN\n")
-        for k, (_, c) in enumerate(elems[:n_specimen], 1):
-            f.write(f"{k}, {c[0]}, {c[1]}, {c[2]}, {c[3]}\n")
+        for elset, outer in (("SPECIMEN", False), ("FAR", True)):
+            ids = [k for k in range(1, n_specimen + 1) if (k in far_ids) == outer]
+            if ids:
+                f.write(f"*ELEMENT, TYPE=CAX4, ELSET={elset}\n")
+            for k in ids:
+                c = elems[k - 1][1]
+                f.write(f"{k}, {c[0]}, {c[1]}, {c[2]}, {c[3]}\n")
         f.write("*ELEMENT, TYPE=CAX4, ELSET=INDENTER\n")
         for k, (_, c) in enumerate(elems[n_specimen:], n_specimen + 1):
             f.write(f"{k}, {c[0]}, {c[1]}, {c[2]}, {c[3]}\n")
@@ -121,14 +136,18 @@ def write_input(path, per_radius, ratio, block, penalty, depth=DEPTH, material=N
         for e, face in bottom_faces:
             f.write(f"{e}, S{face}\n")
         f.write(material or linear_block())
+        if far_ids:
+            f.write(far[1] + "*SOLID SECTION, ELSET=FAR, MATERIAL=FAR\n")
         f.write(f"*MATERIAL, NAME=STIFF\n*ELASTIC\n{YOUNGS * 1e4}, {POISSON}\n")
         f.write("*SOLID SECTION, ELSET=SPECIMEN, MATERIAL=BLOCK\n*SOLID SECTION, ELSET=INDENTER, MATERIAL=STIFF\n")
         f.write("*SURFACE INTERACTION, NAME=SI\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n")
         f.write(f"{penalty}, 1e-9, {A}\n")
         f.write("*CONTACT PAIR, INTERACTION=SI, TYPE=SURFACE TO SURFACE\nSLAVE, MASTER\n")
         f.write("*BOUNDARY\nAXIS, 1, 1\nBOTTOM, 1, 2\n")
+        if ramp is not None:
+            f.write("*AMPLITUDE, NAME=RAMP\n" + ", ".join(f"{t:g}, {v:g}" for t, v in ramp) + "\n")
         f.write(step)
-        f.write(f"*BOUNDARY\nITOP, 2, 2, {-depth}\n")
+        f.write(f"*BOUNDARY{', AMPLITUDE=RAMP' if ramp else ''}\nITOP, 2, 2, {-depth}\n")
         f.write("*NODE PRINT, NSET=ITOP, TOTALS=ONLY\nRF\n*END STEP\n")
     return len(elems), len(nodes), n_specimen
 
