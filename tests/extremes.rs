@@ -401,9 +401,9 @@ fn a_mesh_beyond_the_element_ceiling_is_refused_with_its_sizes() {
     let mut p = hertz_small(10.0, 2);
     p.mesh.elements_per_radius = 240.0;
     p.mesh.max_elements = 20_000;
-    let e = run_indent(&p, &mut |_| {})
-        .err()
-        .expect("a 100k-element mesh under a 20k ceiling");
+    let Err(e) = run_indent(&p, &mut |_| {}) else {
+        panic!("a 100k-element mesh under a 20k ceiling was built");
+    };
     let msg = e.to_string();
     assert!(
         msg.contains("more than 20000 elements") && msg.contains("mesh.max_elements"),

@@ -416,10 +416,11 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     let e_star = e / (1.0 - nu * nu);
     let r = p.indenter.radius();
     if max_load > 0.0 {
-        // under load control: the Hertz depth of the specimen's share of the largest load
-        // sizes the mesh
-        let q = p.machine.hertz_specimen_load(max_load, e_star, r);
-        max_depth = max_depth.max((0.75 * q / (e_star * r.sqrt())).powf(2.0 / 3.0));
+        // under load control: the Hertz depth of the largest load sizes the mesh. Through a
+        // transducer the specimen carries less than P̂ (k₁ takes k₁δ), so this overestimates
+        // the contact; sizing by the specimen's share instead shrank fig6_11's fine zone to
+        // the edge of its contact and its hold stopped (docs/chain.md, session 6)
+        max_depth = max_depth.max((0.75 * max_load / (e_star * r.sqrt())).powf(2.0 / 3.0));
     }
     if let Machine::Spring { stiffness } = p.machine {
         // the schedule drives Δ, not δ: a soft spring (K ≪ the contact stiffness) holds the

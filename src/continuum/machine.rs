@@ -91,35 +91,6 @@ impl Machine {
         }
     }
 
-    /// The Hertz estimate of the specimen's force Q (nN) when the controlled force is `p_hat`
-    /// (nN), for a sphere of radius `radius` (nm) on E\* = `e_star` (GPa): Q = P̂ under plain load
-    /// control; through the transducer P̂ = Q(1 + k₁/k₂) + k₁δ with Q = (4/3)E\*√R δ^(3/2),
-    /// solved by bisection. It sizes meshes: on a specimen softer than k₁ the support springs
-    /// carry most of P̂, and a mesh sized for Q = P̂ would be far too large.
-    pub fn hertz_specimen_load(&self, p_hat: f64, e_star: f64, radius: f64) -> f64 {
-        let Machine::LoadFrame { k1, k2 } = *self else {
-            return p_hat;
-        };
-        if !(p_hat > 0.0 && e_star > 0.0 && radius > 0.0) {
-            return p_hat;
-        }
-        let hertz = |d: f64| 4.0 / 3.0 * e_star * radius.sqrt() * d.powf(1.5);
-        // Q ≤ P̂: the Hertz depth of P̂ brackets the root
-        let (mut lo, mut hi) = (
-            0.0,
-            (0.75 * p_hat / (e_star * radius.sqrt())).powf(2.0 / 3.0),
-        );
-        for _ in 0..SPECIMEN_LOAD_BISECTIONS {
-            let mid = 0.5 * (lo + hi);
-            if hertz(mid) * (1.0 + k1 / k2) + k1 * mid < p_hat {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        hertz(hi)
-    }
-
     /// The controlled force in equilibrium with specimen force `q` (nN) at depth `delta` (nm):
     /// P̂ = k₁h + Q with h = δ + Q/k₂ through the transducer, Q otherwise.
     pub fn applied_load(&self, q: f64, delta: f64) -> f64 {
@@ -129,9 +100,6 @@ impl Machine {
         }
     }
 }
-
-/// Bisection steps of [`Machine::hertz_specimen_load`]: the depth bracket shrinks to 2⁻⁶⁰.
-const SPECIMEN_LOAD_BISECTIONS: usize = 60;
 
 /// What one increment prescribes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -322,26 +290,6 @@ impl NewtonSystem for Driven<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_specimen_share_of_a_transducer_load_balances_the_springs() {
-        let (e_star, r, p_hat): (f64, f64, f64) = (0.025, 1800.0, 20_000.0);
-        let hertz_depth = |q: f64| (0.75 * q / (e_star * r.sqrt())).powf(2.0 / 3.0);
-        // plain load control: the specimen carries all of it
-        assert_eq!(Machine::Load.hertz_specimen_load(p_hat, e_star, r), p_hat);
-        let free = Machine::LoadFrame {
-            k1: 0.0,
-            k2: f64::INFINITY,
-        };
-        assert!((free.hertz_specimen_load(p_hat, e_star, r) / p_hat - 1.0).abs() < 1e-12);
-        // a soft card under the seed's transducer (k₁ = 100 nN/nm): the springs carry most
-        let (k1, k2) = (100.0, 2.1e8);
-        let q = Machine::LoadFrame { k1, k2 }.hertz_specimen_load(p_hat, e_star, r);
-        let d = hertz_depth(q);
-        // the bisection leaves 2⁻⁶⁰ of the bracket: the balance holds to round-off
-        assert!((q * (1.0 + k1 / k2) + k1 * d - p_hat).abs() < 1e-9 * p_hat);
-        assert!(q < 0.25 * p_hat, "Q = {q} nN of P̂ = {p_hat} nN");
-    }
 
     /// Central differences of a quadratic energy are exact up to round-off of its size
     /// (~1e6 aJ here): 1e-6 relative to the forces (~1e3 nN).

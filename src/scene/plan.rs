@@ -414,12 +414,9 @@ fn plan_continuum(
     let tip_depth = ind.tip_depth.map_or(f64::INFINITY, |t| t.0);
     let a = match machine.control {
         Control::Displacement => Some(radius_at_depth(r, shape, tip_depth, totals.max_depth_nm)),
-        Control::Load => d.effective_modulus_gpa.map(|es| {
-            let q = machine
-                .fe_machine()
-                .hertz_specimen_load(totals.max_load_nn, es, r);
-            (3.0 * q * r / (4.0 * es)).cbrt()
-        }),
+        Control::Load => d
+            .effective_modulus_gpa
+            .map(|es| (3.0 * totals.max_load_nn * r / (4.0 * es)).cbrt()),
     };
     let a = match (a, d.jkr_radius_nm) {
         (Some(a), Some(a0)) => Some(a.max(a0)),
