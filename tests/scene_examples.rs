@@ -255,9 +255,9 @@ fn a_sweep_resolves_every_value() {
 fn load_rates_are_read_per_second() {
     let l = load(&scenes_dir().join("turf_indent.toml"), &[]).unwrap();
     let t = l.base.derived.schedule.unwrap();
-    // approach 20 nm at 10 nm/s, load 20 uN at 2 uN/s, hold 10 s, unload at 2 uN/s
+    // approach 20 nm at 10 nm/s, load 20 uN at 2 uN/s, hold 10 s, unload to −1 uN at 2 uN/s
     assert!(
-        (t.duration_s - (2.0 + 10.0 + 10.0 + 10.0)).abs() < 1e-9,
+        (t.duration_s - (2.0 + 10.0 + 10.0 + 10.5)).abs() < 1e-9,
         "{}",
         t.duration_s
     );
