@@ -417,9 +417,8 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
     let r = p.indenter.radius();
     if max_load > 0.0 {
         // under load control: the Hertz depth of the largest load sizes the mesh. Through a
-        // transducer the specimen carries less than P̂ (k₁ takes k₁δ), so this overestimates
-        // the contact; sizing by the specimen's share instead shrank fig6_11's fine zone to
-        // the edge of its contact and its hold stopped (docs/chain.md, session 6)
+        // transducer the specimen carries less than P̂ (k₁ takes k₁δ): the contact is
+        // overestimated, which keeps the contact edge inside the fine zone (docs/chain.md)
         max_depth = max_depth.max((0.75 * max_load / (e_star * r.sqrt())).powf(2.0 / 3.0));
     }
     if let Machine::Spring { stiffness } = p.machine {

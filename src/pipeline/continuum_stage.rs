@@ -28,6 +28,7 @@ use crate::continuum::{run_indent, IndentParams, IndentResult, Progress, Segment
 use crate::laws::{LennardJones, SurfaceLaw, ThermallyShifted};
 use crate::scene::adhesion::ThermalShift;
 use crate::scene::indenter::Shape;
+use crate::scene::machine::Control;
 use crate::scene::material::MaterialModel;
 use crate::scene::schedule::SegmentKind;
 use crate::scene::solver::{Kinematics, Method};
@@ -72,10 +73,19 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
             })
         }
     };
-    let machine = s
-        .machine
-        .as_ref()
-        .map_or(FeMachine::Displacement, |m| m.fe_machine());
+    let machine = match &s.machine {
+        None => FeMachine::Displacement,
+        Some(m) => match (m.control, m.stiffness) {
+            // k₁ the support springs in parallel, k₂ the load frame in series (seed eq. 2.4;
+            // docs/scenes.md `[machine]`); the scene checks that both or neither are given
+            (Control::Load, _) => match (m.k1, m.k2) {
+                (Some(k1), Some(k2)) => FeMachine::LoadFrame { k1: k1.0, k2: k2.0 },
+                _ => FeMachine::Load,
+            },
+            (Control::Displacement, Some(k)) => FeMachine::Spring { stiffness: k.0 },
+            (Control::Displacement, None) => FeMachine::Displacement,
+        },
+    };
     let ind = s
         .indenter
         .as_ref()

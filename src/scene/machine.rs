@@ -11,7 +11,6 @@
 
 use super::check::Checker;
 use super::quantity::Stiffness;
-use crate::continuum::machine::Machine as FeMachine;
 use serde::{Deserialize, Serialize};
 
 /// What the machine controls.
@@ -89,19 +88,6 @@ impl Machine {
                     );
                 }
             }
-        }
-    }
-
-    /// The FE engine's machine: k₁ the support springs in parallel, k₂ the load frame in series
-    /// (seed eq. 2.4; docs/scenes.md `[machine]`); the check makes sure both or neither are given.
-    pub fn fe_machine(&self) -> FeMachine {
-        match (self.control, self.stiffness) {
-            (Control::Load, _) => match (self.k1, self.k2) {
-                (Some(k1), Some(k2)) => FeMachine::LoadFrame { k1: k1.0, k2: k2.0 },
-                _ => FeMachine::Load,
-            },
-            (Control::Displacement, Some(k)) => FeMachine::Spring { stiffness: k.0 },
-            (Control::Displacement, None) => FeMachine::Displacement,
         }
     }
 
