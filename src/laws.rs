@@ -17,15 +17,20 @@
 //!
 //! Units: γ in J/m² (= nN/nm), z₀ and h in nm, p in GPa, φ in J/m², k in GPa/nm.
 //!
-//! **Thermally shifted law** (seed §5.2, Fig 5.3): [`ThermallyShifted`] stretches the attractive
-//! branch of a Lennard-Jones law so that the intercept of the tangent at the tail's inflection
-//! point moves outward by the thermal amplitude u of the tube ends (seed eq. 5.9, see
-//! `theory::thermal`), keeping γ exactly. It is a reparametrisation of the gap,
-//! φ_s(h) = φ(H(h)), with H(h) = h up to z₀ (the repulsive core and the equilibrium are
-//! unchanged) and H' falling smoothly (C², a cubic smoothstep over z₀ ≤ h ≤ h_m) from 1 to 1/b
-//! beyond. Since φ_s(z₀) = φ(z₀) = −γ and φ_s(∞) = 0 for every monotone H, the work of separation
-//! is γ exactly; p_s = p(H)H' and k_s = k(H)H'² + p(H)H'' are exact derivatives and continuous.
-//! The stretch b is fixed in closed form by the intercept shift (docs/theory.md).
+//! **Thermally shifted law** (seed §5.2, Fig 5.3; PHYSICS.md "Thermally shifted law"): the free
+//! tube ends vibrate with an RMS amplitude u (seed eq. 5.9, `theory::thermal`) much larger than
+//! z₀, so the indenter meets a smeared interaction. [`ThermallyShifted`] stretches the *whole*
+//! attractive branch affinely about z₀: for h ≥ z₀,
+//!
+//! p_s(h) = p(z₀ + (h − z₀)/b) / b,  b = 1 + u/(h_int − z₀),
+//!
+//! with h_int the base law's tangent intercept at the tail's inflection. Written as a gap map,
+//! φ_s(h) = φ(H(h)) with H = z₀ + (h − z₀)/b, so φ_s(z₀) = −γ and φ_s(∞) = 0: γ is kept exactly,
+//! the intercept moves by exactly u and the peak tension falls to σ_max/b — no part of the
+//! attraction keeps the base law's peak. Below z₀ the base repulsion stays, joined to the
+//! stretched branch by a C² blend of width [`SHIFT_BLEND_FRACTION`]·z₀ on the repulsive side so
+//! that the stiffness is continuous at z₀. p_s = p(H)H' and k_s = k(H)H'² + p(H)H'' are exact
+//! derivatives (tested below by finite differences).
 //!
 //! [`SurfaceLaw`] is the one type engines take: either law behind the same methods.
 
@@ -182,16 +187,23 @@ pub enum LawError {
     BadShift(f64),
 }
 
-/// A Lennard-Jones law whose attractive branch is stretched by the thermal vibration of the
-/// tube ends (seed §5.2): same γ, same z₀ and core, tangent intercept moved out by u.
+/// Width of the repulsive-side blend, as a fraction of z₀: over z₀ − w ≤ h ≤ z₀ the gap map's
+/// slope falls smoothly from 1 (the base repulsion) to 1/b (the stretched attraction), so the
+/// stiffness is continuous at z₀ for Newton. It only translates the repulsion below z₀ − w
+/// outward by w(1 − 1/b)/2 ≤ 0.01 z₀; γ, the intercept and the peak tension are untouched.
+pub const SHIFT_BLEND_FRACTION: f64 = 0.02;
+
+/// A Lennard-Jones law whose whole attractive branch is stretched affinely about z₀ by the
+/// thermal vibration of the tube ends (seed §5.2, PHYSICS.md "Thermally shifted law"): same γ,
+/// same z₀ and repulsion, peak tension σ_max/b, tangent intercept moved out by exactly u.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "ThermalShiftSpec", into = "ThermalShiftSpec")]
 pub struct ThermallyShifted {
     base: LennardJones,
     u: f64,
-    /// width of the smoothstep transition h_m − z₀, nm
-    width: f64,
-    /// far-field stretch factor b ≥ 1 (H' → 1/b)
+    /// width w of the repulsive-side blend, nm
+    blend: f64,
+    /// stretch b = 1 + u/(h_int − z₀) ≥ 1
     stretch: f64,
 }
 
@@ -212,8 +224,8 @@ impl From<ThermallyShifted> for ThermalShiftSpec {
 }
 
 impl ThermallyShifted {
-    /// Shift `base` by the thermal amplitude `u` (nm). The stretch is
-    /// b = 1 + u / (h_int − z₀ − w/2) with w = h_m − z₀ (docs/theory.md).
+    /// Shift `base` by the thermal amplitude `u` (nm): b = 1 + u/(h_int − z₀), with h_int the
+    /// base law's tangent intercept (PHYSICS.md).
     pub fn new(base: LennardJones, u: f64) -> Result<Self, LawError> {
         let ok = |x: f64| x.is_finite() && x > 0.0;
         if !ok(base.gamma) || !ok(base.z0) {
@@ -225,12 +237,11 @@ impl ThermallyShifted {
         if !(u.is_finite() && u >= 0.0) {
             return Err(LawError::BadShift(u));
         }
-        let width = base.gap_at_max_tension() - base.z0;
-        let stretch = 1.0 + u / (base.tangent_intercept() - base.z0 - 0.5 * width);
+        let stretch = 1.0 + u / (base.tangent_intercept() - base.z0);
         Ok(ThermallyShifted {
             base,
             u,
-            width,
+            blend: SHIFT_BLEND_FRACTION * base.z0,
             stretch,
         })
     }
@@ -245,25 +256,30 @@ impl ThermallyShifted {
         self.u
     }
 
-    /// The far-field stretch factor b (the tail's tension is divided by b, its range times b).
+    /// The stretch b: the attraction's range is b times the base law's, its tension 1/b.
     pub fn stretch(&self) -> f64 {
         self.stretch
     }
 
-    /// The gap map H(h) and its first two derivatives (H, H', H'').
+    /// The gap map H(h) and its first two derivatives (H, H', H''): φ_s(h) = φ(H(h)).
+    ///
+    /// For h ≥ z₀, H = z₀ + (h − z₀)/b (the affine stretch, so p_s = p(H)/b); over the blend
+    /// z₀ − w ≤ h ≤ z₀, H' = 1/b + (1 − 1/b)(1 − 3t² + 2t³) with t = (h − z₀ + w)/w, H(z₀) = z₀;
+    /// below, H = h + w(1 − 1/b)/2. H is C² (H' and H'' continuous), so k_s is continuous.
     fn gap_map(&self, h: f64) -> (f64, f64, f64) {
-        let z0 = self.base.z0;
-        if h <= z0 {
-            return (h, 1.0, 0.0);
+        let (z0, w, b) = (self.base.z0, self.blend, self.stretch);
+        if h >= z0 {
+            return (z0 + (h - z0) / b, 1.0 / b, 0.0);
         }
-        let (w, b) = (self.width, self.stretch);
-        let x = h - z0;
         let excess = 1.0 - 1.0 / b;
-        if x >= w {
-            return (z0 + 0.5 * excess * w + x / b, 1.0 / b, 0.0);
+        let x = h - (z0 - w);
+        if x <= 0.0 {
+            return (h + 0.5 * excess * w, 1.0, 0.0);
         }
         let t = x / w;
-        let big_h = z0 + x / b + excess * w * (t - t.powi(3) + 0.5 * t.powi(4));
+        // H(h) = z₀ − ∫_h^{z₀} H'; the primitive of H' from z₀ − w is w[t/b + excess(t − t³ + t⁴/2)]
+        let at_z0 = w * (1.0 / b + 0.5 * excess);
+        let big_h = z0 - at_z0 + w * (t / b + excess * (t - t.powi(3) + 0.5 * t.powi(4)));
         let dh = 1.0 / b + excess * (1.0 - 3.0 * t * t + 2.0 * t.powi(3));
         let ddh = excess * 6.0 * (t * t - t) / w;
         (big_h, dh, ddh)
@@ -276,30 +292,24 @@ impl ThermallyShifted {
         (phi, p * dh, k * dh * dh + p * ddh)
     }
 
-    /// Gap of the tail's inflection point of p_s, nm (in the region where H is affine).
-    pub fn gap_at_tail_inflection(&self) -> f64 {
-        let z0 = self.base.z0;
-        let c = 0.5 * (1.0 - 1.0 / self.stretch) * self.width;
-        z0 + self.stretch * (self.base.gap_at_tail_inflection() - z0 - c)
+    /// Gap of the largest tension, nm: z₀ + b(h_m − z₀), h_m the base law's.
+    pub fn gap_at_max_tension(&self) -> f64 {
+        self.stretched(self.base.gap_at_max_tension())
     }
 
-    /// Gap of the largest tension, nm: the zero of k_s between z₀ and the tail's inflection,
-    /// found by bisection (k_s < 0 at z₀, > 0 at the inflection).
-    pub fn gap_at_max_tension(&self) -> f64 {
-        let (mut lo, mut hi) = (self.base.z0, self.gap_at_tail_inflection());
-        // 200 halvings reach the f64 resolution of any bracket
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if self.eval(mid).2 < 0.0 {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        0.5 * (lo + hi)
+    /// Gap of the tail's inflection point, nm: z₀ + b(h_i − z₀).
+    pub fn gap_at_tail_inflection(&self) -> f64 {
+        self.stretched(self.base.gap_at_tail_inflection())
+    }
+
+    /// The tangent intercept h_int + u, nm (the stretch is built to move it by exactly u).
+    pub fn tangent_intercept(&self) -> f64 {
+        self.stretched(self.base.tangent_intercept())
+    }
+
+    /// The gap h_s ≥ z₀ that the stretch maps onto a base gap h ≥ z₀.
+    fn stretched(&self, h: f64) -> f64 {
+        self.base.z0 + self.stretch * (h - self.base.z0)
     }
 }
 
@@ -362,6 +372,31 @@ impl SurfaceLaw {
         -self.pressure(self.gap_at_max_tension())
     }
 
+    /// Where the tangent at the tail's inflection point crosses p = 0, nm (the law's range:
+    /// h_int of the base law, h_int + u once shifted).
+    pub fn tangent_intercept(&self) -> f64 {
+        match self {
+            SurfaceLaw::LennardJones(l) => l.tangent_intercept(),
+            SurfaceLaw::ThermallyShifted(l) => l.tangent_intercept(),
+        }
+    }
+
+    /// The stretch b of the attractive branch (1 for a plain law).
+    pub fn stretch(&self) -> f64 {
+        match self {
+            SurfaceLaw::LennardJones(_) => 1.0,
+            SurfaceLaw::ThermallyShifted(l) => l.stretch(),
+        }
+    }
+
+    /// The thermal shift u, nm (0 for a plain law).
+    pub fn shift(&self) -> f64 {
+        match self {
+            SurfaceLaw::LennardJones(_) => 0.0,
+            SurfaceLaw::ThermallyShifted(l) => l.shift(),
+        }
+    }
+
     /// Work of adhesion γ = −φ(z₀), J/m².
     pub fn gamma(&self) -> f64 {
         self.base().gamma
@@ -372,7 +407,8 @@ impl SurfaceLaw {
         self.base().z0
     }
 
-    fn base(&self) -> &LennardJones {
+    /// The unshifted Lennard-Jones law.
+    pub fn base(&self) -> &LennardJones {
         match self {
             SurfaceLaw::LennardJones(l) => l,
             SurfaceLaw::ThermallyShifted(l) => l.base(),
@@ -530,14 +566,15 @@ mod tests {
     fn shifted_law_derivatives_are_exact_and_continuous() {
         for law in shifted_laws() {
             let z0 = law.z0();
-            let hm = match law {
-                SurfaceLaw::ThermallyShifted(t) => t.base().gap_at_max_tension(),
-                SurfaceLaw::LennardJones(l) => l.gap_at_max_tension(),
-            };
+            let w = SHIFT_BLEND_FRACTION * z0;
+            let hm = law.gap_at_max_tension();
             for &h in &[
                 0.3 * z0,
                 0.9 * z0,
-                0.999 * z0,
+                z0 - 1.5 * w,
+                z0 - 0.999 * w,
+                z0 - 0.5 * w,
+                z0 - 0.001 * w,
                 1.001 * z0,
                 1.05 * z0,
                 0.5 * (z0 + hm),
@@ -547,7 +584,8 @@ mod tests {
                 10.0 * hm,
                 40.0 * z0,
             ] {
-                let e = 1e-6 * z0;
+                // a step well inside the blend, so no difference straddles a joint
+                let e = 1e-4 * w;
                 let p_fd = -(law.energy(h + e) - law.energy(h - e)) / (2.0 * e);
                 let k_fd = (law.pressure(h + e) - law.pressure(h - e)) / (2.0 * e);
                 let (_, p, k) = law.eval(h);
@@ -561,13 +599,72 @@ mod tests {
                     "k at {h}: {k} {k_fd}"
                 );
             }
-            // continuity of p and k across the joints z₀ and h_m
-            for joint in [z0, hm] {
+            // continuity of φ, p and k across the joints of the blend, z₀ − w and z₀
+            for joint in [z0 - w, z0] {
                 let e = 1e-9 * z0;
                 let (a, b) = (law.eval(joint - e), law.eval(joint + e));
+                assert!((a.0 - b.0).abs() < 1e-6 * law.gamma());
                 assert!((a.1 - b.1).abs() < 1e-6 * law.gamma() / z0);
-                assert!((a.2 - b.2).abs() < 1e-5 * law.gamma() / (z0 * z0));
+                assert!(
+                    (a.2 - b.2).abs() < 1e-5 * a.2.abs().max(law.gamma() / (z0 * z0)),
+                    "k at {joint}: {} {}",
+                    a.2,
+                    b.2
+                );
             }
+        }
+    }
+
+    #[test]
+    fn the_whole_attraction_is_stretched_and_the_peak_falls_by_b() {
+        for base in laws() {
+            for u in [0.3, 4.6] {
+                let t = ThermallyShifted::new(base, u).unwrap();
+                let law = SurfaceLaw::from(t);
+                let b = t.stretch();
+                assert!((b - (1.0 + u / (base.tangent_intercept() - base.z0))).abs() < 1e-14);
+                // σ_max/b, located by scanning p_s independently of the closed form
+                let (h_lo, h_hi) = (base.z0, base.z0 + 10.0 * b * base.z0);
+                let n = 200_000;
+                let scanned = (0..=n)
+                    .map(|i| -law.pressure(h_lo + (h_hi - h_lo) * i as f64 / n as f64))
+                    .fold(f64::MIN, f64::max);
+                let want = base.max_tension() / b;
+                assert!((law.max_tension() - want).abs() < 1e-12 * want);
+                assert!((scanned - want).abs() < 1e-4 * want, "{scanned} vs {want}");
+                // the tension everywhere past z₀ is the base law's at the mapped gap, over b
+                for x in [1.001, 1.01, 1.1, 1.5, 3.0] {
+                    let h = base.z0 * x;
+                    let mapped = base.z0 + (h - base.z0) / b;
+                    assert!((law.pressure(h) - base.pressure(mapped) / b).abs() < 1e-14);
+                }
+                // the blend touches neither γ, nor the intercept, nor the peak
+                assert!((law.energy(law.z0()) + law.gamma()).abs() < 1e-15);
+                assert!((law.tangent_intercept() - base.tangent_intercept() - u).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn seed_numbers_of_the_shifted_law() {
+        // PHYSICS.md: γ = 0.46 J/m², z₀ = 0.34 nm, u = 4.626 nm
+        let cases = [
+            (LjKind::Lj104, 0.4517, 0.6211, 17.46, 1.983, 0.1136),
+            (LjKind::Lj93, f64::NAN, f64::NAN, 13.68, 1.389, 0.1015),
+        ];
+        for (kind, hi, hint, b, smax, speak) in cases {
+            let base = LennardJones::new(kind, 0.46, 0.34);
+            let t = ThermallyShifted::new(base, 4.626).unwrap();
+            // the quoted figures carry four significant digits
+            let close = |a: f64, b: f64| (a - b).abs() < 6e-4 * b;
+            if hi.is_finite() {
+                assert!(close(base.gap_at_tail_inflection(), hi));
+                assert!(close(base.tangent_intercept(), hint));
+            }
+            assert!(close(t.stretch(), b), "{kind:?} b = {}", t.stretch());
+            assert!(close(base.max_tension(), smax));
+            let law = SurfaceLaw::from(t);
+            assert!(close(law.max_tension(), speak), "{}", law.max_tension());
         }
     }
 

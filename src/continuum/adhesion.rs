@@ -5,9 +5,9 @@
 //! **Mesh sizes.** The contact radius used to size the block is the largest of the Hertz
 //! estimate at the deepest point, JKR's radius at the Hertz load there (adhesion enlarges the
 //! contact) and 2√(Rz₀) (the attractive ring around a DMT-like contact, where the gap is a few
-//! z₀). The smallest element resolves the LJ process zone ℓ = E\*z₀²/γ (PHYSICS.md; √(Rz₀)·μ^(−3/2)
-//! in the half-space's scaled units; z₀ + u for a law shifted by u) with [`ZONE_ELEMENTS`] elements, unless the contact
-//! radius asks for finer ones.
+//! z₀). The smallest element resolves the law's process zone ℓ = E\*γ/σ_peak²
+//! ([`crate::theory::process_zone`], PHYSICS.md; for a shifted law σ_peak is σ_max/b) with
+//! [`ZONE_ELEMENTS`] elements, unless the contact radius asks for finer ones.
 
 use super::damping::ContactDamping;
 use super::element::Kinematics;
@@ -17,10 +17,11 @@ use super::material::linear::LinearElastic;
 use super::material::Elastic;
 use super::{IndentParams, Segment};
 use crate::laws::{LennardJones, LjKind, SurfaceLaw};
+use crate::theory::{hertz, jkr, process_zone, tabor, Sphere, TheoryError};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// Elements across the LJ process zone E\*z₀²/γ (PHYSICS.md: ≥ 10).
+/// Elements across the process zone E\*γ/σ_peak² (PHYSICS.md: ≥ 10).
 pub const ZONE_ELEMENTS: f64 = 10.0;
 
 /// The adhesive interaction.
@@ -48,29 +49,21 @@ impl AdhesionParams {
         }
     }
 
-    /// The LJ process zone E\*(z₀ + u)²/γ, nm (u the thermal shift, 0 for a plain law: the
-    /// shift stretches the range of the attraction, the scene's `[mesh]` rule).
-    pub fn process_zone(&self, e_star: f64) -> f64 {
-        let u = match &self.law {
-            SurfaceLaw::ThermallyShifted(t) => t.shift(),
-            SurfaceLaw::LennardJones(_) => 0.0,
-        };
-        e_star * (self.law.z0() + u).powi(2) / self.law.gamma()
+    /// The process zone ℓ = E\*γ/σ_peak² of the law, nm ([`crate::theory::process_zone`]).
+    pub fn process_zone(&self, e_star: f64) -> Result<f64, TheoryError> {
+        process_zone::process_zone(&self.law, e_star)
     }
 
-    /// Tabor's μ = (Rγ²/(E\*²z₀³))^(1/3) (PHYSICS.md, not the seed's eq. 3.9).
-    pub fn tabor(&self, radius: f64, e_star: f64) -> f64 {
-        let (g, z0) = (self.law.gamma(), self.law.z0());
-        (radius * g * g / (e_star * e_star * z0.powi(3))).cbrt()
+    /// Tabor's μ of the law against a sphere of `radius` (nm) on modulus `e_star` (GPa)
+    /// ([`crate::theory::tabor`]).
+    pub fn tabor(&self, radius: f64, e_star: f64) -> Result<f64, TheoryError> {
+        tabor::tabor_mu(&self.sphere(radius, e_star)?, self.law.z0())
     }
-}
 
-/// JKR contact radius at load P (nN) for a sphere of radius R against modulus E\* with work
-/// of adhesion γ: a³ = (3R/4E\*)(P + 3πγR + √(6πγRP + (3πγR)²)), P ≥ −3πγR/2.
-pub fn jkr_radius(p: f64, radius: f64, e_star: f64, gamma: f64) -> f64 {
-    let c = 3.0 * PI * gamma * radius;
-    let p = p.max(-0.5 * c);
-    (0.75 * radius / e_star * (p + c + (2.0 * c * p + c * c).max(0.0).sqrt())).cbrt()
+    /// The sphere of the theory module: `radius`, `e_star` and the law's γ.
+    fn sphere(&self, radius: f64, e_star: f64) -> Result<Sphere, TheoryError> {
+        Sphere::new(radius, e_star, self.law.gamma())
+    }
 }
 
 /// The contact radius that sizes the mesh (see the module doc), nm.
@@ -85,11 +78,12 @@ pub fn sizing_radius(
         return hertz;
     };
     let r = indenter.radius();
-    let d = max_depth.max(0.0);
-    let p_hertz = 4.0 / 3.0 * e_star * r.sqrt() * d.powf(1.5);
-    hertz
-        .max(jkr_radius(p_hertz, r, e_star, a.law.gamma()))
-        .max(2.0 * (r * a.law.z0()).sqrt())
+    let p_hertz = hertz::load_from_depth(max_depth.max(0.0), r, e_star);
+    let jkr = a
+        .sphere(r, e_star)
+        .and_then(|s| jkr::contact_radius(&s, p_hertz))
+        .unwrap_or(0.0);
+    hertz.max(jkr).max(2.0 * (r * a.law.z0()).sqrt())
 }
 
 /// Damping of [`tabor_sphere`]: c₀ in GPa·s/nm at the drive rate of 1 nm/s (its dissipation is
@@ -167,21 +161,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn jkr_radius_has_its_closed_form_limits() {
-        let (r, e, g) = (100.0, 1.0, 0.05);
-        // zero load: a₀³ = 9πγR²/(2E*)
-        let a0 = jkr_radius(0.0, r, e, g);
-        assert!((a0.powi(3) - 4.5 * PI * g * r * r / e).abs() < 1e-9 * a0.powi(3));
-        // pull-off −1.5πγR: a³ = a₀³/4
-        let ap = jkr_radius(-1.5 * PI * g * r, r, e, g);
-        assert!((ap.powi(3) - a0.powi(3) / 4.0).abs() < 1e-9 * a0.powi(3));
-        // γ → 0: Hertz
-        let p = 10.0;
-        let ah = (0.75 * p * r / e).cbrt();
-        assert!((jkr_radius(p, r, e, 1e-16) - ah).abs() < 1e-6 * ah);
-    }
-
-    #[test]
     fn tabor_sphere_has_the_same_small_strain_moduli_at_both_kinematics() {
         for kin in [Kinematics::Small, Kinematics::Finite] {
             let p = tabor_sphere(2.0, 200.0, LjKind::Lj93, kin);
@@ -197,14 +176,17 @@ mod tests {
 
     #[test]
     fn tabor_and_process_zone_agree_with_the_scaled_units() {
-        // ℓ = E*z₀²/γ = √(Rz₀) μ^(−3/2)
+        // E*z₀²/γ = √(Rz₀) μ^(−3/2)
         let a = AdhesionParams {
             law: LennardJones::new(LjKind::Lj93, 0.03, 0.5).into(),
             damping: None,
         };
         let (r, e) = (800.0, 1.3);
-        let mu = a.tabor(r, e);
-        let ell = a.process_zone(e);
-        assert!((ell - (r * 0.5f64).sqrt() * mu.powf(-1.5)).abs() < 1e-9 * ell);
+        let mu = a.tabor(r, e).unwrap();
+        let ell = a.process_zone(e).unwrap();
+        // σ_max = 16γ/(9√3 z₀) for 9-3: ℓ = (9√3/16)² E*z₀²/γ
+        let shape = (9.0 * 3f64.sqrt() / 16.0).powi(2);
+        let scaled = (r * 0.5f64).sqrt() * mu.powf(-1.5);
+        assert!((ell - shape * scaled).abs() < 1e-9 * ell);
     }
 }

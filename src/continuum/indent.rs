@@ -353,7 +353,7 @@ pub struct Resolved {
     pub reduced_modulus_GPa: f64,
     /// the repulsive law (used without adhesion)
     pub penalty: SmoothPenalty,
-    /// with adhesion: the LJ process zone E*z₀²/γ, nm
+    /// with adhesion: the law's process zone E*γ/σ_peak², nm
     #[serde(skip_serializing_if = "Option::is_none")]
     pub process_zone_nm: Option<f64>,
     /// with adhesion: Tabor's μ against the tip radius
@@ -439,7 +439,13 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
             m.size_factor
         )));
     }
-    let process_zone = p.adhesion.as_ref().map(|ad| ad.process_zone(e_star));
+    let process_zone = match &p.adhesion {
+        Some(ad) => Some(
+            ad.process_zone(e_star)
+                .map_err(|e| FeError::Params(format!("process zone: {e}")))?,
+        ),
+        None => None,
+    };
     let smallest = m.smallest.unwrap_or(
         (a / m.elements_per_radius)
             .min(process_zone.map_or(f64::INFINITY, |l| l / adhesion::ZONE_ELEMENTS)),
@@ -475,7 +481,7 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
         tabor: p
             .adhesion
             .as_ref()
-            .map(|ad| ad.tabor(p.indenter.radius(), e_star)),
+            .and_then(|ad| ad.tabor(p.indenter.radius(), e_star).ok()),
     })
 }
 

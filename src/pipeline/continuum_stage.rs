@@ -25,8 +25,7 @@ use crate::continuum::material::linear::LinearElastic;
 use crate::continuum::material::viscoelastic::PronyTerm;
 use crate::continuum::material::Elastic;
 use crate::continuum::{run_indent, IndentParams, IndentResult, Progress, Segment};
-use crate::laws::{LennardJones, SurfaceLaw, ThermallyShifted};
-use crate::scene::adhesion::ThermalShift;
+use crate::laws::SurfaceLaw;
 use crate::scene::indenter::Shape;
 use crate::scene::machine::Control;
 use crate::scene::material::MaterialModel;
@@ -48,21 +47,9 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
     let adhesion = match &s.adhesion {
         None => None,
         Some(a) => {
-            let base = LennardJones::new(a.law, a.gamma.0, a.z0.0);
-            let law: SurfaceLaw = match a.thermal_shift {
-                ThermalShift::Off => base.into(),
-                ThermalShift::Amplitude(u) => ThermallyShifted::new(base, u.0)
-                    .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?
-                    .into(),
-                ThermalShift::FromTubes => {
-                    let u = a
-                        .shift_nm(s.turf.as_ref())
-                        .map_err(|e| failed(format!("adhesion.thermal_shift = true: {e}")))?;
-                    ThermallyShifted::new(base, u)
-                        .map_err(|e| failed(format!("adhesion.thermal_shift = true: {e}")))?
-                        .into()
-                }
-            };
+            let law = a
+                .surface_law(s.turf.as_ref())
+                .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?;
             Some(AdhesionParams {
                 law,
                 damping: a.damping.as_ref().map(|d| ContactDamping {

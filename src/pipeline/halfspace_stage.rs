@@ -5,7 +5,6 @@
 
 use super::{StageContext, StageError, StageOutput};
 use crate::halfspace::{pull_off, trace_curve, HalfspaceParams, Problem};
-use crate::laws::{LennardJones, SurfaceLaw, ThermallyShifted};
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
 use crate::scene::{ResolvedScene, Stage};
@@ -31,17 +30,9 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         .derived
         .effective_modulus_gpa
         .ok_or_else(|| failed("needs a linear [material] (E*)".into()))?;
-    let base = LennardJones::new(
-        hs.law.unwrap_or(adhesion.law),
-        adhesion.gamma.0,
-        adhesion.z0.0,
-    );
-    let law = match scene.derived.thermal_shift_nm {
-        Some(u) if u > 0.0 => SurfaceLaw::from(
-            ThermallyShifted::new(base, u).map_err(|e| failed(format!("thermal shift: {e}")))?,
-        ),
-        _ => SurfaceLaw::from(base),
-    };
+    let law = adhesion
+        .surface_law_of(hs.law.unwrap_or(adhesion.law), scene.scene.turf.as_ref())
+        .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?;
     let problem =
         Problem::new(indenter.radius.0, modulus, law).map_err(|e| failed(e.to_string()))?;
     let params = HalfspaceParams {

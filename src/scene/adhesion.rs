@@ -5,7 +5,7 @@
 use super::check::Checker;
 use super::quantity::{Length, Number, Temperature};
 use super::quantity::{Quantity, SurfaceEnergy};
-use crate::laws::LjKind;
+use crate::laws::{LjKind, SurfaceLaw, ThermallyShifted};
 use crate::units::Dimension;
 use serde::de::{self, Deserializer, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
@@ -177,8 +177,29 @@ impl Adhesion {
         }
     }
 
-    /// The law as `turf::laws` builds it.
+    /// The unshifted law as `turf::laws` builds it.
     pub fn law(&self) -> crate::laws::LennardJones {
         crate::laws::LennardJones::new(self.law, self.gamma.0, self.z0.0)
+    }
+
+    /// The law the engines take: `adhesion.law`, thermally shifted by [`Self::shift_nm`] when
+    /// the shift is positive (seed §5.2).
+    pub fn surface_law(&self, turf: Option<&super::turf::Turf>) -> Result<SurfaceLaw, String> {
+        self.surface_law_of(self.law, turf)
+    }
+
+    /// [`Self::surface_law`] with the exponents `kind` in place of `adhesion.law`.
+    pub fn surface_law_of(
+        &self,
+        kind: LjKind,
+        turf: Option<&super::turf::Turf>,
+    ) -> Result<SurfaceLaw, String> {
+        let base = crate::laws::LennardJones::new(kind, self.gamma.0, self.z0.0);
+        match self.shift_nm(turf)? {
+            u if u > 0.0 => ThermallyShifted::new(base, u)
+                .map(SurfaceLaw::from)
+                .map_err(|e| e.to_string()),
+            _ => Ok(base.into()),
+        }
     }
 }

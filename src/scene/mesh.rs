@@ -3,14 +3,15 @@
 //! FE engine's own defaults ([`crate::continuum::indent::DEFAULT_BLOCK_FACTOR`] and the rest):
 //! the body is 200a wide and deep (a rigid bottom at depth L adds a compliance error of about
 //! 0.42·a/L, a free side at a small width a larger one of the other sign), with ~20 elements
-//! across a and, with adhesion, ≥ 10 across the LJ process zone E*r²/γ, where r is the law's
-//! range: z₀, plus the thermal shift u when there is one. These derived sizes are the ones the
-//! continuum stage meshes.
+//! across a and, with adhesion, ≥ 10 across the law's process zone ℓ = E*γ/σ_peak²
+//! (`crate::theory::process_zone`; σ_peak = σ_max/b for a thermally shifted law). These derived
+//! sizes are the ones the continuum stage meshes.
 
 use super::check::Checker;
 use super::quantity::{Length, Number};
 use serde::{Deserialize, Serialize};
 
+use crate::continuum::adhesion::ZONE_ELEMENTS;
 use crate::continuum::indent::{
     DEFAULT_BLOCK_FACTOR, DEFAULT_ELEMENTS_PER_RADIUS, DEFAULT_GRADING,
 };
@@ -21,8 +22,8 @@ pub const WIDTH_PER_CONTACT_RADIUS: f64 = DEFAULT_BLOCK_FACTOR;
 pub const DEPTH_PER_CONTACT_RADIUS: f64 = DEFAULT_BLOCK_FACTOR;
 /// Default elements across the contact radius (PHYSICS.md).
 pub const ELEMENTS_PER_CONTACT_RADIUS: f64 = DEFAULT_ELEMENTS_PER_RADIUS;
-/// Default elements across the LJ process zone (PHYSICS.md).
-pub const ELEMENTS_PER_PROCESS_ZONE: f64 = 10.0;
+/// Default elements across the process zone (PHYSICS.md), the FE engine's own.
+pub const ELEMENTS_PER_PROCESS_ZONE: f64 = ZONE_ELEMENTS;
 
 /// `[mesh]`: sizes of the body and its elements.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -35,7 +36,7 @@ pub struct Mesh {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth: Option<Length>,
     /// Smallest element size, at the contact, nm. Default a/20, and with adhesion at most a
-    /// tenth of the process zone E*(z₀ + u)²/γ (u: the thermal shift, 0 without).
+    /// tenth of the law's process zone E*γ/σ_peak² (σ_peak = σ_max/b once thermally shifted).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub smallest: Option<Length>,
     /// Growth factor of element size away from the contact: the size ratio of neighbouring

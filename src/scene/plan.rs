@@ -2,10 +2,12 @@
 //! scene requires" (DESIGN.md) — and the values resolved from the scene before anything runs
 //! (defaults filled, derived sizes, the dimensionless numbers that decide the physics).
 //!
-//! Derived numbers (PHYSICS.md): E* = E/(1 − ν²) against a rigid indenter; Tabor
-//! μ = (Rγ²/(E*² z₀³))^(1/3); Maugis λ = σ₀(9R/(2πγE*²))^(1/3) with σ₀ the law's largest
-//! tension; JKR contact radius at zero load a₀ = (9πγR²/(2E*))^(1/3); thermal amplitude of
-//! the tube ends u = (0.4243 l³ kT / (Y(r_o⁴ − r_i⁴)))^(1/2) (seed eq. 5.9).
+//! Derived numbers (PHYSICS.md), each computed by `crate::theory`: E* = E/(1 − ν²) against a
+//! rigid indenter; Tabor μ = (Rγ²/(E*² z₀³))^(1/3); Maugis λ = σ₀(9R/(2πγE*²))^(1/3) with σ₀
+//! the largest tension of the law as the engines take it (thermally shifted where the scene
+//! asks); JKR contact radius at zero load a₀ = (9πγR²/(2E*))^(1/3); thermal amplitude of the
+//! tube ends u = (0.4243 l³ kT / (Y(r_o⁴ − r_i⁴)))^(1/2) (seed eq. 5.9); the process zone
+//! ℓ = E*γ/σ_peak² that sizes adhesive meshes.
 
 use super::adhesion::ThermalShift;
 use super::check::Checker;
@@ -20,8 +22,9 @@ use super::mesh::{
 use super::schedule::ScheduleTotals;
 use super::solver::{Kinematics, Solver};
 use super::Scene;
+use crate::theory::process_zone::process_zone;
+use crate::theory::{jkr, tabor, Sphere};
 use serde::Serialize;
-use std::f64::consts::PI;
 use std::fmt;
 use std::path::PathBuf;
 
@@ -130,6 +133,12 @@ pub struct Derived {
     /// the thermal shift of the LJ law, nm (0: none)
     #[serde(skip_serializing_if = "Option::is_none")]
     pub thermal_shift_nm: Option<f64>,
+    /// the largest tension of the law as the engines take it (σ_max/b once shifted), GPa
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_tension_gpa: Option<f64>,
+    /// the law's process zone ℓ = E*γ/σ_peak² (PHYSICS.md), nm
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub process_zone_nm: Option<f64>,
     /// expected contact radius at the deepest point of the schedule, nm
     #[serde(skip_serializing_if = "Option::is_none")]
     pub contact_radius_nm: Option<f64>,
@@ -280,24 +289,29 @@ fn first_non_finite(d: &Derived) -> Option<String> {
     })
 }
 
-/// E*, μ, λ, the JKR radius and the thermal shift.
+/// E*, μ, λ, the JKR radius, the thermal shift and the process zone (from `crate::theory`).
 fn derive_contact(scene: &Scene, d: &mut Derived) {
     let elastic = scene.material.as_ref().and_then(|m| m.initial_elastic());
     d.effective_modulus_gpa = elastic.map(|(e, nu)| e / (1.0 - nu * nu));
-    if let (Some(a), Some(i), Some(es)) =
-        (&scene.adhesion, &scene.indenter, d.effective_modulus_gpa)
-    {
-        let (r, g, z0) = (i.radius.0, a.gamma.0, a.z0.0);
-        if es > 0.0 && r > 0.0 && g > 0.0 && z0 > 0.0 {
-            d.tabor_mu = Some((r * g * g / (es * es * z0.powi(3))).cbrt());
-            let sigma0 = a.law().max_tension();
-            d.maugis_lambda = Some(sigma0 * (9.0 * r / (2.0 * PI * g * es * es)).cbrt());
-            d.jkr_radius_nm = Some((9.0 * PI * g * r * r / (2.0 * es)).cbrt());
+    let Some(a) = &scene.adhesion else {
+        return;
+    };
+    // an error (no [turf]) is reported by check_users; the derived values are then absent
+    d.thermal_shift_nm = a.shift_nm(scene.turf.as_ref()).ok();
+    let Ok(law) = a.surface_law(scene.turf.as_ref()) else {
+        return;
+    };
+    d.peak_tension_gpa = Some(law.max_tension());
+    let Some(es) = d.effective_modulus_gpa else {
+        return;
+    };
+    d.process_zone_nm = process_zone(&law, es).ok();
+    if let Some(i) = &scene.indenter {
+        if let Ok(s) = Sphere::new(i.radius.0, es, law.gamma()) {
+            d.tabor_mu = tabor::tabor_mu(&s, law.z0()).ok();
+            d.maugis_lambda = tabor::lambda_from_law(&s, &law).ok();
+            d.jkr_radius_nm = Some(jkr::zero_load_radius(&s));
         }
-    }
-    if let Some(a) = &scene.adhesion {
-        // an error (no [turf]) is reported by check_users; the derived value is then absent
-        d.thermal_shift_nm = a.shift_nm(scene.turf.as_ref()).ok();
     }
 }
 
@@ -425,14 +439,7 @@ fn plan_continuum(
     .filter(|a| *a > 0.0);
     d.contact_radius_nm = a;
     d.machine_series_stiffness = machine.series_stiffness();
-    // the process zone E*·r²/γ, with r the law's range: z₀, lengthened by a thermal shift
-    let process_zone = match (&scene.adhesion, d.effective_modulus_gpa) {
-        (Some(ad), Some(es)) => {
-            let range = ad.z0.0 + d.thermal_shift_nm.unwrap_or(0.0);
-            Some(es * range * range / ad.gamma.0)
-        }
-        _ => None,
-    };
+    let process_zone = d.process_zone_nm;
     let pick = |given: Option<super::quantity::Length>,
                 factor: Option<f64>,
                 key: &str,
@@ -729,7 +736,7 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
             "adhesion.sigma0",
             a.law().max_tension(),
             "GPa",
-            "largest LJ tension",
+            "largest tension of the unshifted law",
         );
     }
     if let (Some(u), Some(a)) = (d.thermal_shift_nm, &scene.adhesion) {
@@ -751,6 +758,22 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
     }
     if let Some(x) = d.jkr_radius_nm {
         put("JKR a0", x, "nm", "contact radius at zero load");
+    }
+    if let Some(x) = d.peak_tension_gpa {
+        put(
+            "peak tension",
+            x,
+            "GPa",
+            "of the law the engines take (σ_max/b once shifted)",
+        );
+    }
+    if let Some(x) = d.process_zone_nm {
+        put(
+            "process zone ℓ",
+            x,
+            "nm",
+            "E*γ/σ_peak²: adhesive meshes resolve it",
+        );
     }
     if let Some(t) = &d.schedule {
         put("schedule duration", t.duration_s, "s", "");

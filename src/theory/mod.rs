@@ -8,7 +8,9 @@
 //! - [`maugis`]: the Maugis–Dugdale transition (seed 3.10–3.11, Johnson & Greenwood 1997);
 //! - [`micromech`]: bent free segments between tube–tube contacts (seed 2.8–2.14);
 //! - [`indentation_law`]: the quasi-rheological machine + specimen model (seed 2.1–2.7);
-//! - [`thermal`]: RMS amplitude of a free tube end (seed 5.9).
+//! - [`thermal`]: RMS amplitude of a free tube end (seed 5.9);
+//! - [`process_zone`]: the width ℓ = E\*γ/σ_peak² of any surface law's process zone, which
+//!   adhesive meshes resolve.
 //!
 //! Normalisation (Johnson & Greenwood 1997, seed 3.10): for a sphere of radius R on a
 //! half-space of plane-strain modulus E\* with work of adhesion γ,
@@ -23,6 +25,7 @@ pub mod indentation_law;
 pub mod jkr;
 pub mod maugis;
 pub mod micromech;
+pub mod process_zone;
 pub mod tabor;
 pub mod thermal;
 
