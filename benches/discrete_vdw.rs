@@ -15,8 +15,7 @@ use turf::discrete::vdw_term::VdwTerm;
 
 /// 100 wavy tubes of 100 segments, as in `benches/scenes/turf_100x100.toml` (2 µm tubes,
 /// 20 nm segments, tilt 0.1 rad, waviness 50 nm, 1 µm periodic box) as generated — overlap-free,
-/// with contacts only where tubes grew within range (the generator refuses overlapping turfs,
-/// so the earlier unrelaxed 5 µm turf with crossings can no longer be built).
+/// with contacts only where tubes grew within range (the generator refuses overlapping turfs).
 fn turf_100x100() -> (VdwTerm, Vec<f64>, turf::discrete::turf::Turf) {
     let p = TurfParams {
         density: 1e-4,

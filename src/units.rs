@@ -247,7 +247,7 @@ pub fn parse_quantity(text: &str, expected: Dimension) -> Result<f64, UnitError>
     Ok(out)
 }
 
-/// Length of the leading number (sign, digits, point, exponent) of `s`.
+/// Length of the number (sign, digits, point, exponent) at the start of `s`.
 fn number_prefix_len(s: &str) -> usize {
     let b = s.as_bytes();
     let mut i = 0;

@@ -175,8 +175,9 @@ fn run_indents_the_hertz_scene_by_finite_elements() {
     std::fs::remove_dir_all(dir).ok();
 }
 
-/// Regression: with a 10 µm block the unload to δ → 0 used to stall at a residual floor of
-/// ~4e-7 of the increment's first residual (net force ~0 there) and give up after 11 halvings.
+/// Regression test: with a 10 µm block the unload to δ → 0 meets a residual floor of ~4e-7 of
+/// the increment's first residual (net force ~0 there); Newton must accept that stalled
+/// residual rather than give up after 11 halvings.
 #[test]
 fn unloading_a_large_hertz_block_to_zero_depth_converges() {
     let dir = temp("run-hertz-large");

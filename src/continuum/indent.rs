@@ -842,13 +842,13 @@ pub fn run_indent(
                     result.stats.cutbacks += 1;
                     step *= 0.5;
                     last_dv = 0.0;
-                    // `max_cutbacks` bounds how small an increment may get: base / 2^max. It
-                    // used to count the halvings over the whole segment, so a long segment
+                    // `max_cutbacks` bounds how small an increment may get: base / 2^max. A
+                    // count of the halvings over the whole segment would fail a long segment
                     // with a few recovered cutbacks (a contact edge sweeping over surface
-                    // nodes) failed at an increment halved once (hyperfoam_indent.toml,
+                    // nodes) at an increment halved once (hyperfoam_indent.toml,
                     // docs/validation-continuum.md); a count reset at each converged increment
-                    // instead lets a load-controlled retraction creep towards the pull-off
-                    // fold in ever smaller converged steps without end
+                    // would let a load-controlled retraction creep towards the pull-off fold
+                    // in ever smaller converged steps without end
                     let exhausted = step < base * 0.5f64.powi(p.solver.max_cutbacks as i32);
                     if exhausted && by_load && target < v0 {
                         // the specimen's force at the last equilibrium (= the controlled

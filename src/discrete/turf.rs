@@ -456,8 +456,8 @@ pub fn generate_turf(p: &TurfParams) -> Result<Turf, TurfError> {
     for _ in 0..wanted {
         let radius = p.radius_outer
             * (1.0 + p.radius_cv * normal(&mut rng).clamp(-RADIUS_CLIP, RADIUS_CLIP));
-        // drawn once per tube (after the first base, as before growth was checked): a redraw
-        // changes where and how the tube grows, not its length
+        // drawn once per tube, after the first base: a redraw changes where and how the tube
+        // grows, not its length
         let mut length = None;
         let mut accepted = None;
         for _ in 0..GROWTH_ATTEMPTS {

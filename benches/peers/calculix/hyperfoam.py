@@ -10,7 +10,7 @@ written as N=2 with a zero second term, the same energy (as turf's material.inp 
 CalculiX 2.20's *HYPERFOAM stress is wrong at near-isotropic small strain: uniaxial strain of
 5e-6 gives 0.40 of the closed form T = (2μ/α)(λ^(α−1) − 1/λ), 1e-5 gives +0.4 %, 1e-4 −1.4e-4,
 1e-3 exact (`--check` prints this). The far field of an indentation sits at such strains, and the
-jumps there keep Newton from converging (session 5's failures). So the block is hyperfoam only
+jumps there keep Newton from converging. So the block is hyperfoam only
 within `--far` contact radii of the first contact point and beyond that the foam's small-strain
 limit, linear elastic E = 2μ, ν = 0 (St Venant–Kirchhoff under NLGEOM); moving that boundary
 from 4a to 8a lowers the load at 100 nm by 0.10 %, and a C/r² fit puts 8a (the default) 0.03 %
