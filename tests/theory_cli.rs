@@ -154,3 +154,66 @@ fn halfspace_json_reports_pull_off_error_and_cost() {
     let (ok, _, err) = turf(&["theory", "halfspace", "--mu=-1"]);
     assert!(!ok && err.contains("μ"), "{err}");
 }
+
+/// `turf theory law` for both laws: the stretch, peak and intercept of PHYSICS.md's seed
+/// numbers (γ = 0.46 J/m², z₀ = 0.34 nm, u = 4.626 nm, quoted to four figures), the process
+/// zone E*γ/σ_peak², and the p(h) table with its plot.
+#[test]
+fn law_json_for_both_laws_with_the_seed_numbers() {
+    // (law, b, σ_max/b in GPa)
+    for (law, b, peak) in [("lj104", 17.46, 0.1136), ("lj93", 13.68, 0.1015)] {
+        let dir = std::env::temp_dir().join(format!("turf-theory-law-{law}-{}", std::process::id()));
+        let v = json(&[
+            "theory",
+            "law",
+            "--law",
+            law,
+            "--gamma",
+            "0.46 J/m^2",
+            "--z0",
+            "0.34 nm",
+            "--shift",
+            "4.626 nm",
+            "--modulus",
+            "700 MPa",
+            "--out",
+            dir.to_str().unwrap(),
+            "--json",
+        ]);
+        let f = |k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k} in {v}"));
+        assert_eq!(v["law"], law);
+        assert!((f("stretch") - b).abs() < 6e-4 * b, "{v}");
+        assert!((f("peak_tension_GPa") - peak).abs() < 6e-4 * peak, "{v}");
+        assert!((f("peak_tension_GPa") * f("stretch") - f("base_peak_tension_GPa")).abs() < 1e-12);
+        let ell = 0.7 * 0.46 / f("peak_tension_GPa").powi(2);
+        assert!((f("process_zone_nm") - ell).abs() < 1e-12 * ell);
+        assert!(f("tangent_intercept_nm") > 4.626 + 0.34);
+        let csv = std::fs::read_to_string(dir.join("law.csv")).unwrap();
+        assert!(csv.starts_with("gap_nm,base_pressure_GPa,shifted_pressure_GPa"));
+        assert!(dir.join("plots/law.svg").exists());
+        std::fs::remove_dir_all(&dir).ok();
+    }
+    // from the tube: u of seed eq. 5.9 (4.626 nm for the seed's tube); no --modulus, no zone
+    let v = json(&[
+        "theory",
+        "law",
+        "--gamma",
+        "0.46 J/m^2",
+        "--z0",
+        "0.34 nm",
+        "--thermal-tube",
+        "7 um,20 nm,17.3 nm,0.4 TPa,300 K",
+        "--json",
+    ]);
+    assert!((v["u_nm"].as_f64().unwrap() - 4.626).abs() < 1e-3, "{v}");
+    assert!(v.get("process_zone_nm").is_none());
+    // a malformed tube and a negative shift are refused by name
+    let (ok, _, err) = turf(&[
+        "theory", "law", "--gamma", "1", "--z0", "1", "--thermal-tube", "7 um,20 nm",
+    ]);
+    assert!(!ok && err.contains("--thermal-tube"), "{err}");
+    let (ok, _, err) = turf(&[
+        "theory", "law", "--gamma", "1", "--z0", "1", "--shift", "-1 nm",
+    ]);
+    assert!(!ok && err.contains("--shift"), "{err}");
+}

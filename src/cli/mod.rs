@@ -5,3 +5,4 @@ pub mod fit_indentation;
 pub mod homogenize;
 pub mod run;
 pub mod theory;
+pub mod theory_law;

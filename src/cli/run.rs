@@ -4,7 +4,8 @@ use clap::Args;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use turf::pipeline::{self, RunOptions};
-use turf::scene::{self, plan::Plan, Loaded, ResolvedScene};
+use turf::scene::plan::{sig, Plan};
+use turf::scene::{self, Loaded, ResolvedScene};
 
 /// Arguments of `turf run`.
 #[derive(Args)]
@@ -105,6 +106,11 @@ fn check_json(loaded: &Loaded) -> serde_json::Value {
         "derived": b.derived,
         "scene": b.scene,
     });
+    match pipeline::mesh_preview(b) {
+        Some(Ok(m)) => v["fe_mesh"] = serde_json::json!(m),
+        Some(Err(e)) => v["fe_mesh_error"] = serde_json::json!(e),
+        None => {}
+    }
     if !loaded.sweep.is_empty() {
         v["sweep"] = serde_json::json!(loaded
             .sweep
@@ -126,6 +132,7 @@ fn check_text(loaded: &Loaded) -> String {
         scene::output_dir(b, None).display()
     ));
     s.push_str(&plan_text(&b.plan));
+    s.push_str(&mesh_text(b));
     if let Some(sw) = &b.scene.sweep {
         s.push_str(&format!(
             "\nsweep over {} ({} values):\n",
@@ -143,6 +150,30 @@ fn check_text(loaded: &Loaded) -> String {
     }
     s.push_str("\nnothing was run (turf run runs the stages)\n");
     s
+}
+
+/// The FE mesh the run would build: process zone, smallest element and element count.
+fn mesh_text(scene: &ResolvedScene) -> String {
+    match pipeline::mesh_preview(scene) {
+        None => String::new(),
+        Some(Err(e)) => format!("\nFE mesh: would be refused: {e}\n"),
+        Some(Ok(m)) => {
+            let zone = m.process_zone_nm.map_or(String::new(), |l| {
+                format!(
+                    "process zone ℓ = {} nm, smallest element {} nm (ℓ/{:.1}), ",
+                    sig(l),
+                    sig(m.smallest_nm),
+                    l / m.smallest_nm
+                )
+            });
+            format!(
+                "\nFE mesh: {zone}{} elements, {} nodes (contact radius {} nm)\n",
+                m.elements,
+                m.nodes,
+                sig(m.contact_radius_nm)
+            )
+        }
+    }
 }
 
 fn headline(scene: &ResolvedScene) -> String {

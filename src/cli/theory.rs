@@ -1,5 +1,5 @@
 //! `turf theory`: closed-form calculators (Hertz, JKR, DMT, Maugis–Dugdale, Tabor, thermal
-//! amplitude, micromechanics, the quasi-rheological indentation law).
+//! amplitude, micromechanics, the quasi-rheological indentation law, surface laws).
 //!
 //! Every quantity flag takes a unit string (`--radius "1.8 um"`, `--modulus "1 GPa"`); a bare
 //! number is in internal units (nm, nN, s, GPa, J/m²). `--json` prints the result as JSON on
@@ -42,6 +42,9 @@ enum TheoryCommand {
     /// Pull-off of an elastic half-space with LJ tractions (numerical, small strain), with its
     /// grid-refinement error estimate and cost.
     Halfspace(HalfspaceArgs),
+    /// A surface law, plain or thermally shifted (seed §5.2): stretch, peak tension, range,
+    /// process zone; p(h) as CSV and plot with --out (the seed's Fig 5.3).
+    Law(super::theory_law::LawArgs),
 }
 
 #[derive(Args)]
@@ -81,7 +84,7 @@ impl From<ControlName> for Control {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum LawName {
+pub(super) enum LawName {
     Lj93,
     Lj104,
 }
@@ -273,6 +276,7 @@ pub fn run(args: TheoryArgs) -> anyhow::Result<()> {
         TheoryCommand::Micromech(a) => (micromech(&a)?, a.json),
         TheoryCommand::IndentationLaw(a) => (indentation_law(&a)?, a.json),
         TheoryCommand::Halfspace(a) => (halfspace(&a)?, a.json),
+        TheoryCommand::Law(a) => (super::theory_law::law(&a)?, a.json),
     };
     if json {
         println!("{}", serde_json::to_string_pretty(&value)?);

@@ -583,6 +583,13 @@ pub struct Progress {
     pub row: Row,
 }
 
+/// The sizes and the mesh a run of `p` would build, without solving anything (`turf check`).
+pub fn mesh_preview(p: &IndentParams) -> Result<(Resolved, MeshReport), FeError> {
+    let r = resolve(p)?;
+    let mesh = build_mesh(p, &r)?;
+    Ok((r, mesh.report()))
+}
+
 /// Build the mesh of a run.
 fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
     match &p.mesh.gmsh_file {

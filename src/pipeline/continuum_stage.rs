@@ -32,6 +32,7 @@ use crate::scene::material::MaterialModel;
 use crate::scene::schedule::SegmentKind;
 use crate::scene::solver::{Kinematics, Method};
 use crate::scene::{ResolvedScene, Stage};
+use serde::Serialize;
 use std::collections::BTreeMap;
 
 fn failed(message: String) -> StageError {
@@ -285,6 +286,42 @@ fn segment_figures(p: &IndentParams, r: &IndentResult, values: &mut BTreeMap<Str
         }
         start = end;
     }
+}
+
+/// What the FE mesh of a scene will be, worked out before anything runs (`turf check`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MeshPreview {
+    /// the law's process zone E*γ/σ_peak², nm (with adhesion)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub process_zone_nm: Option<f64>,
+    /// smallest element, nm
+    pub smallest_nm: f64,
+    /// expected contact radius that sizes the block, nm
+    pub contact_radius_nm: f64,
+    /// triangles of the generated mesh
+    pub elements: usize,
+    /// nodes of the generated mesh
+    pub nodes: usize,
+}
+
+/// The mesh the continuum stage of `scene` would build: None when the scene has no continuum
+/// stage or its card is fitted in the same run (its moduli, and so the sizes, are known only
+/// then); an error when the FE parameters or the mesh would be refused.
+pub fn mesh_preview(scene: &ResolvedScene) -> Option<Result<MeshPreview, String>> {
+    if !scene.plan.has(Stage::Continuum) || scene.plan.has(Stage::Homogenize) {
+        return None;
+    }
+    let preview = indent_params(scene)
+        .map_err(|e| e.to_string())
+        .and_then(|p| crate::continuum::indent::mesh_preview(&p).map_err(|e| e.to_string()))
+        .map(|(r, m)| MeshPreview {
+            process_zone_nm: r.process_zone_nm,
+            smallest_nm: r.block.smallest,
+            contact_radius_nm: r.expected_contact_radius_nm,
+            elements: m.elements,
+            nodes: m.nodes,
+        });
+    Some(preview)
 }
 
 /// `material.model = "card"` without `material.card`: the scene with the card this run's

@@ -25,6 +25,7 @@
 
 pub mod cache;
 mod continuum_stage;
+pub use continuum_stage::{mesh_preview, MeshPreview};
 mod discrete_stage;
 pub use discrete_stage::LOADING_CSV;
 mod halfspace_stage;
