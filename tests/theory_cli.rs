@@ -162,7 +162,8 @@ fn halfspace_json_reports_pull_off_error_and_cost() {
 fn law_json_for_both_laws_with_the_seed_numbers() {
     // (law, b, σ_max/b in GPa)
     for (law, b, peak) in [("lj104", 17.46, 0.1136), ("lj93", 13.68, 0.1015)] {
-        let dir = std::env::temp_dir().join(format!("turf-theory-law-{law}-{}", std::process::id()));
+        let dir =
+            std::env::temp_dir().join(format!("turf-theory-law-{law}-{}", std::process::id()));
         let v = json(&[
             "theory",
             "law",
@@ -209,11 +210,24 @@ fn law_json_for_both_laws_with_the_seed_numbers() {
     assert!(v.get("process_zone_nm").is_none());
     // a malformed tube and a negative shift are refused by name
     let (ok, _, err) = turf(&[
-        "theory", "law", "--gamma", "1", "--z0", "1", "--thermal-tube", "7 um,20 nm",
+        "theory",
+        "law",
+        "--gamma",
+        "1",
+        "--z0",
+        "1",
+        "--thermal-tube",
+        "7 um,20 nm",
     ]);
     assert!(!ok && err.contains("--thermal-tube"), "{err}");
     let (ok, _, err) = turf(&[
-        "theory", "law", "--gamma", "1", "--z0", "1", "--shift", "-1 nm",
+        "theory",
+        "law",
+        "--gamma",
+        "1",
+        "--z0",
+        "1",
+        "--shift=-1 nm",
     ]);
     assert!(!ok && err.contains("--shift"), "{err}");
 }

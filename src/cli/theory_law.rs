@@ -10,9 +10,9 @@ use std::path::PathBuf;
 use turf::laws::{LennardJones, LjKind, SurfaceLaw, ThermallyShifted};
 use turf::report::csv::Table;
 use turf::report::plot::{Plot, Series};
+use turf::theory::positive;
 use turf::theory::process_zone::process_zone;
 use turf::theory::thermal::Cantilever;
-use turf::theory::positive;
 use turf::units::{parse_quantity, Dimension};
 
 /// Points of the p(h) table.
