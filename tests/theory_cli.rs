@@ -209,25 +209,18 @@ fn law_json_for_both_laws_with_the_seed_numbers() {
     assert!((v["u_nm"].as_f64().unwrap() - 4.626).abs() < 1e-3, "{v}");
     assert!(v.get("process_zone_nm").is_none());
     // a malformed tube and a negative shift are refused by name
-    let (ok, _, err) = turf(&[
-        "theory",
-        "law",
-        "--gamma",
-        "1",
-        "--z0",
-        "1",
-        "--thermal-tube",
-        "7 um,20 nm",
-    ]);
-    assert!(!ok && err.contains("--thermal-tube"), "{err}");
-    let (ok, _, err) = turf(&[
-        "theory",
-        "law",
-        "--gamma",
-        "1",
-        "--z0",
-        "1",
-        "--shift=-1 nm",
-    ]);
-    assert!(!ok && err.contains("--shift"), "{err}");
+    for (bad, flag) in [
+        (
+            ["--thermal-tube", "7 um,20 nm"].as_slice(),
+            "--thermal-tube",
+        ),
+        (["--shift=-1 nm"].as_slice(), "--shift"),
+    ] {
+        let args: Vec<&str> = ["theory", "law", "--gamma", "1", "--z0", "1"]
+            .into_iter()
+            .chain(bad.iter().copied())
+            .collect();
+        let (ok, _, err) = turf(&args);
+        assert!(!ok && err.contains(flag), "{err}");
+    }
 }

@@ -95,22 +95,6 @@ impl SurfaceLaw for SmoothPenalty {
     }
 }
 
-/// Gauss–Legendre points and weights on [0, 1].
-pub fn gauss_points(n: usize) -> Vec<(f64, f64)> {
-    let s = |x: f64| 0.5 * (1.0 + x);
-    match n {
-        1 => vec![(0.5, 1.0)],
-        2 => {
-            let a = 0.5 / 3f64.sqrt();
-            vec![(0.5 - a, 0.5), (0.5 + a, 0.5)]
-        }
-        _ => {
-            let a = (0.6f64).sqrt();
-            vec![(s(-a), 5.0 / 18.0), (0.5, 8.0 / 18.0), (s(a), 5.0 / 18.0)]
-        }
-    }
-}
-
 /// The point at ξ ∈ [0, 1] along a surface segment whose current ends are `x` and reference
 /// ends `x_ref`: current under finite kinematics, (R, Z + u_z) under small.
 fn surface_point(x: [[f64; 2]; 2], x_ref: [[f64; 2]; 2], xi: f64, small: bool) -> [f64; 2] {
@@ -341,6 +325,7 @@ impl Contact<'_> {
 mod tests {
     use super::*;
     use crate::laws::LjKind;
+    use crate::numerics::quadrature::gauss_legendre_unit;
 
     const FD_TOL: f64 = 1e-6; // central differences with step 1e-6 nm
 
@@ -374,7 +359,7 @@ mod tests {
             segments: vec![],
             indenter: ind,
             law,
-            quadrature: gauss_points(3),
+            quadrature: gauss_legendre_unit(3),
             damping,
         };
         let x_ref = [[x[0][0] - 0.1, 0.0], [x[1][0] + 0.2, 0.0]];
@@ -488,7 +473,7 @@ mod tests {
             segments: vec![],
             indenter: Indenter::Sphere { radius: 10.0 },
             law: &law,
-            quadrature: gauss_points(2),
+            quadrature: gauss_legendre_unit(2),
             damping: None,
         };
         let pts = |g: [f64; 3]| -> Vec<ProfilePoint> {

@@ -15,7 +15,7 @@
 use super::adhesion::{self, AdhesionParams};
 use super::arclength::{ArcLengthParams, Curve};
 use super::assembly::{Assembler, AssemblyStats, Solid};
-use super::contact::{gauss_points, Contact, Damping, SmoothPenalty, SurfaceLaw};
+use super::contact::{Contact, Damping, SmoothPenalty, SurfaceLaw};
 use super::element::Kinematics;
 use super::indenter::Indenter;
 use super::machine::{Drive, Driven, Machine};
@@ -26,6 +26,7 @@ use super::material::{Elastic, Voigt};
 use super::mesh::{self, BlockSpec, Mesh, MeshReport};
 use super::newton::{self, NewtonParams};
 use super::FeError;
+use crate::numerics::quadrature::gauss_legendre_unit;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -140,9 +141,13 @@ pub struct ContactParams {
     pub penalty_factor: f64,
     /// penalty range h_r in units of h₀
     pub range_fraction: f64,
-    /// Gauss points per surface segment (1–3)
+    /// Gauss points per surface segment (1 to [`MAX_QUADRATURE_POINTS`])
     pub quadrature_points: usize,
 }
+
+/// The most Gauss points per surface segment the contact accepts (beyond, the surface
+/// segment's own linear interpolation, not the rule, limits the accuracy).
+pub const MAX_QUADRATURE_POINTS: usize = 8;
 
 impl Default for ContactParams {
     fn default() -> Self {
@@ -460,7 +465,9 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
         max_elements: m.max_elements,
     };
     let c = &p.contact;
-    if !(c.penalty_factor > 0.0 && c.range_fraction > 0.0 && (1..=3).contains(&c.quadrature_points))
+    if !(c.penalty_factor > 0.0
+        && c.range_fraction > 0.0
+        && (1..=MAX_QUADRATURE_POINTS).contains(&c.quadrature_points))
     {
         return Err(FeError::Params(format!(
             "unusable contact parameters {c:?}"
@@ -665,7 +672,7 @@ pub fn run_indent(
         segments: Contact::segments_of(&mesh),
         indenter: p.indenter,
         law,
-        quadrature: gauss_points(p.contact.quadrature_points),
+        quadrature: gauss_legendre_unit(p.contact.quadrature_points),
         damping: None,
     };
     let mut asm = Assembler::new(&solid, Some(&contact))?;

@@ -22,6 +22,7 @@
 //! segments are seamless, and the sliding corrugation is set by the panel length relative to the
 //! interaction width √(2 D₀ z₀) alone, not by the segment length ([`energy_segment_segment`]).
 
+use crate::numerics::quadrature::gauss_legendre_unit;
 use std::f64::consts::PI;
 
 use parry3d_f64::math::Vector;
@@ -172,40 +173,6 @@ fn switch(g: f64, on: f64, off: f64) -> (f64, f64, f64) {
     let ds = -30.0 * x2 * (1.0 - x) * (1.0 - x) / w;
     let d2s = -60.0 * x * (1.0 - x) * (1.0 - 2.0 * x) / (w * w);
     (s, ds, d2s)
-}
-
-/// Gauss–Legendre rule on [0, 1]: (node, weight) pairs, nodes ascending.
-pub fn gauss_legendre_unit(n: usize) -> Vec<(f64, f64)> {
-    let legendre = |x: f64| {
-        // (P_n(x), P_n'(x)) by the three-term recurrence
-        let (mut p0, mut p1) = (1.0, x);
-        for k in 2..=n {
-            let kf = k as f64;
-            let p2 = ((2.0 * kf - 1.0) * x * p1 - (kf - 1.0) * p0) / kf;
-            p0 = p1;
-            p1 = p2;
-        }
-        let dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-        (p1, dp)
-    };
-    let mut rule: Vec<(f64, f64)> = (0..n)
-        .map(|i| {
-            let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            for _ in 0..100 {
-                let (p, dp) = legendre(x);
-                let dx = p / dp;
-                x -= dx;
-                if dx.abs() < 1e-16 {
-                    break;
-                }
-            }
-            let (_, dp) = legendre(x);
-            let w = 2.0 / ((1.0 - x * x) * dp * dp);
-            (0.5 * (1.0 + x), 0.5 * w)
-        })
-        .collect();
-    rule.sort_by(|a, b| a.0.total_cmp(&b.0));
-    rule
 }
 
 /// Panels of the reference quadrature of the calibration integrals (per unit of the range).
@@ -584,19 +551,6 @@ mod tests {
     const FD_STEP: f64 = 1e-6;
     /// Central differences of smooth functions at this step agree to ~1e-8 relative.
     const FD_TOL: f64 = 1e-6;
-
-    #[test]
-    fn gauss_legendre_integrates_polynomials_exactly() {
-        for n in 1..=8 {
-            let rule = gauss_legendre_unit(n);
-            let wsum: f64 = rule.iter().map(|r| r.1).sum();
-            assert!((wsum - 1.0).abs() < 1e-14);
-            // ∫₀¹ t^(2n−1) dt = 1/(2n)
-            let k = 2 * n - 1;
-            let q: f64 = rule.iter().map(|&(t, w)| w * t.powi(k as i32)).sum();
-            assert!((q - 1.0 / (2 * n) as f64).abs() < 1e-13, "n = {n}");
-        }
-    }
 
     #[test]
     fn switch_is_c2_and_monotone() {

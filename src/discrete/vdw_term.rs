@@ -13,9 +13,9 @@ use rayon::prelude::*;
 use super::broadphase::{Broadphase, BroadphaseInfo, PeriodicBox, SegmentPair, SegmentSet};
 use super::energy::EnergyTerm;
 use super::vdw::{
-    energy_segment_segment, gauss_legendre_unit, LinePairPotential, QuadSegment, SegmentPairEnergy,
-    VdwError, VdwParams,
+    energy_segment_segment, LinePairPotential, QuadSegment, SegmentPairEnergy, VdwError, VdwParams,
 };
+use crate::numerics::quadrature::gauss_legendre_unit;
 
 /// Where one tube's nodes sit in the coordinate vector: nodes `first_node ..
 /// first_node + nodes`, consecutive nodes joined by segments.
