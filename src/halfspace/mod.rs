@@ -142,10 +142,14 @@ impl<T: Traction> Problem<T> {
         })
     }
 
-    /// Tabor parameter μ = (Rγ²/(E\*² z₀³))^{1/3}.
+    /// Tabor parameter μ = (Rγ²/(E\*² z₀³))^{1/3} ([`crate::theory::tabor`]).
     pub fn tabor(&self) -> f64 {
-        let (g, z0) = (self.law.work_of_adhesion(), self.law.equilibrium_gap());
-        (self.radius * g * g / (self.modulus * self.modulus * z0.powi(3))).cbrt()
+        let sphere = crate::theory::Sphere {
+            radius: self.radius,
+            modulus: self.modulus,
+            gamma: self.law.work_of_adhesion(),
+        };
+        crate::theory::tabor::mu_of(&sphere, self.law.equilibrium_gap())
     }
 
     /// Units of the scaled results.

@@ -23,7 +23,7 @@ use super::schedule::ScheduleTotals;
 use super::solver::{Kinematics, Solver};
 use super::Scene;
 use crate::theory::process_zone::process_zone;
-use crate::theory::{jkr, tabor, Sphere};
+use crate::theory::{hertz, jkr, tabor, Sphere};
 use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
@@ -430,7 +430,7 @@ fn plan_continuum(
         Control::Displacement => Some(radius_at_depth(r, shape, tip_depth, totals.max_depth_nm)),
         Control::Load => d
             .effective_modulus_gpa
-            .map(|es| (3.0 * totals.max_load_nn * r / (4.0 * es)).cbrt()),
+            .and_then(|es| hertz::contact_radius(totals.max_load_nn, r, es).ok()),
     };
     let a = match (a, d.jkr_radius_nm) {
         (Some(a), Some(a0)) => Some(a.max(a0)),

@@ -16,7 +16,12 @@ use std::f64::consts::PI;
 /// Tabor's μ = (Rγ²/(E\*² z₀³))^(1/3).
 pub fn tabor_mu(s: &Sphere, z0: f64) -> Result<f64, TheoryError> {
     let z0 = positive("equilibrium separation z₀", z0)?;
-    Ok((s.radius * s.gamma * s.gamma / (s.modulus * s.modulus * z0.powi(3))).cbrt())
+    Ok(mu_of(s, z0))
+}
+
+/// Tabor's μ of inputs the caller has validated (R, E\*, γ, z₀ positive and finite).
+pub fn mu_of(s: &Sphere, z0: f64) -> f64 {
+    (s.radius * s.gamma * s.gamma / (s.modulus * s.modulus * z0.powi(3))).cbrt()
 }
 
 /// Maugis' λ = σ₀ (9R/(2πγE\*²))^(1/3) for a Dugdale stress σ₀ (GPa).
