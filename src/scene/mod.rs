@@ -25,6 +25,7 @@ pub mod output;
 pub mod overrides;
 pub mod plan;
 pub mod quantity;
+pub mod resources;
 pub mod rods;
 pub mod scene_meta;
 pub mod schedule;

@@ -15,6 +15,7 @@ use super::homogenize::Curve;
 use super::indenter::{Shape, BERKOVICH_EQUIVALENT_CONE_DEG};
 use super::machine::{Control, Machine};
 use super::material::MaterialModel;
+use super::resources::Memory;
 use super::mesh::{
     Mesh, DEPTH_PER_CONTACT_RADIUS, ELEMENTS_PER_CONTACT_RADIUS, ELEMENTS_PER_PROCESS_ZONE,
     WIDTH_PER_CONTACT_RADIUS,
@@ -105,6 +106,10 @@ pub struct Plan {
     pub physics: Vec<Switch>,
     /// key values in internal units
     pub values: Vec<Resolved>,
+    /// the memory each sized stage would allocate and the ceiling it is held to (absent when
+    /// the scene has other problems)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub memory: Option<Memory>,
 }
 
 impl Plan {
@@ -263,11 +268,17 @@ pub(crate) fn plan(
     }
     let physics = switches(scene, continuum, &d);
     let values = values(scene, &d);
+    // sizes are estimated only from sections that passed their own checks
+    let memory = c
+        .problems
+        .is_empty()
+        .then(|| super::resources::estimate(scene, c));
     (
         Plan {
             stages,
             physics,
             values,
+            memory,
         },
         d,
     )
