@@ -43,6 +43,9 @@ pub struct CheckArgs {
 
 /// `turf run`.
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
+    if args.out.as_ref().is_some_and(|o| o.as_os_str().is_empty()) {
+        anyhow::bail!("--out \"\" is not allowed: name a folder");
+    }
     let loaded = scene::load(&args.scene, &args.set)?;
     let opts = RunOptions {
         out: args.out,

@@ -297,6 +297,7 @@ fn resolve(mut scene: Scene, file: &Path) -> Result<ResolvedScene, Vec<(String, 
         scene.scene.name = Some(stem);
     }
     scene.scene.check(&mut c);
+    scene.output.check(&mut c);
     if let Some(s) = &mut scene.indenter {
         s.check(&mut c);
     }

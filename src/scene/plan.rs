@@ -223,6 +223,7 @@ pub(crate) fn plan(
     let model = scene.material.as_ref().map(|m| m.model);
     let linear_sphere = sphere == Some(true) && model == Some(MaterialModel::Linear);
     derive_contact(scene, &mut d);
+    check_contact_range(scene, &d, c);
 
     if linear_sphere {
         let why = match d.tabor_mu {
@@ -324,6 +325,38 @@ fn derive_contact(scene: &Scene, d: &mut Derived) {
             d.jkr_radius_nm = Some(jkr::zero_load_radius(&s));
         }
     }
+}
+
+/// The dimensionless contact numbers must come out finite and positive: a modulus so large
+/// that E*² overflows double precision gives μ = λ = 0, which no engine can use (the theory
+/// stage would fail at run time without naming a key).
+fn check_contact_range(scene: &Scene, d: &Derived, c: &mut Checker) {
+    let bad = [
+        ("Tabor μ", d.tabor_mu),
+        ("Maugis λ", d.maugis_lambda),
+        ("JKR radius a0", d.jkr_radius_nm),
+        ("process zone ℓ", d.process_zone_nm),
+    ]
+    .into_iter()
+    .find_map(|(name, v)| v.filter(|v| !(v.is_finite() && *v > 0.0)).map(|v| (name, v)));
+    let (Some((name, v)), Some(m)) = (bad, &scene.material) else {
+        return;
+    };
+    let key = if m.youngs.is_some() {
+        "material.youngs"
+    } else {
+        "material"
+    };
+    c.bad(
+        key,
+        format!(
+            "gives E* = {} GPa and {name} = {v} with indenter.radius, adhesion.gamma and adhesion.z0: \
+             the numbers leave the range of double precision; use a modulus (and radius, γ, z0) \
+             within many orders of magnitude of each other",
+            d.effective_modulus_gpa
+                .map_or("?".into(), |e| format!("{e:.4e}"))
+        ),
+    );
 }
 
 fn plan_discrete(scene: &Scene, stages: &mut Vec<PlannedStage>, d: &mut Derived, c: &mut Checker) {
