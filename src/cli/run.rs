@@ -43,9 +43,6 @@ pub struct CheckArgs {
 
 /// `turf run`.
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    if args.out.as_ref().is_some_and(|o| o.as_os_str().is_empty()) {
-        anyhow::bail!("--out \"\" is not allowed: name a folder");
-    }
     let loaded = scene::load(&args.scene, &args.set)?;
     let opts = RunOptions {
         out: args.out,
@@ -94,7 +91,10 @@ pub fn check(args: CheckArgs) -> anyhow::Result<()> {
     let loaded = match scene::load(&args.scene, &args.set) {
         Ok(l) => l,
         Err(e) if args.json => {
-            println!("{}", serde_json::to_string_pretty(&error_json(&args.scene, &e))?);
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&error_json(&args.scene, &e))?
+            );
             return Err(e.into());
         }
         Err(e) => return Err(e.into()),

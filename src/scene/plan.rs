@@ -15,11 +15,11 @@ use super::homogenize::Curve;
 use super::indenter::{Shape, BERKOVICH_EQUIVALENT_CONE_DEG};
 use super::machine::{Control, Machine};
 use super::material::MaterialModel;
-use super::resources::Memory;
 use super::mesh::{
     Mesh, DEPTH_PER_CONTACT_RADIUS, ELEMENTS_PER_CONTACT_RADIUS, ELEMENTS_PER_PROCESS_ZONE,
     WIDTH_PER_CONTACT_RADIUS,
 };
+use super::resources::Memory;
 use super::schedule::ScheduleTotals;
 use super::solver::{Kinematics, Solver};
 use super::Scene;
@@ -338,7 +338,10 @@ fn check_contact_range(scene: &Scene, d: &Derived, c: &mut Checker) {
         ("process zone ℓ", d.process_zone_nm),
     ]
     .into_iter()
-    .find_map(|(name, v)| v.filter(|v| !(v.is_finite() && *v > 0.0)).map(|v| (name, v)));
+    .find_map(|(name, v)| {
+        v.filter(|v| !(v.is_finite() && *v > 0.0))
+            .map(|v| (name, v))
+    });
     let (Some((name, v)), Some(m)) = (bad, &scene.material) else {
         return;
     };

@@ -75,8 +75,9 @@ impl Memory {
     /// [`crate::continuum::mesh::DEFAULT_MAX_ELEMENTS`]) and no more than the ceiling holds.
     pub fn max_elements(&self, scene: &Scene) -> usize {
         let given = scene.mesh.as_ref().and_then(|m| m.max_elements);
-        let wanted =
-            given.map_or(crate::continuum::mesh::DEFAULT_MAX_ELEMENTS as f64, |n| n as f64);
+        let wanted = given.map_or(crate::continuum::mesh::DEFAULT_MAX_ELEMENTS as f64, |n| {
+            n as f64
+        });
         wanted.min(elements_within(self.ceiling.bytes)) as usize
     }
 }
@@ -90,8 +91,20 @@ pub fn bytes_text(b: f64) -> String {
     units
         .iter()
         .find(|(u, _)| b >= *u)
-        .map_or_else(|| format!("{} B", sig(b)), |(u, n)| format!("{:.3} {n}", b / u))
+        .map_or_else(
+            || format!("{} B", sig(b)),
+            |(u, n)| format!("{:.3} {n}", b / u),
+        )
         .replace(".000 ", " ")
+}
+
+/// A count for messages: whole below a million, else "1.234e14".
+fn count_text(n: f64) -> String {
+    if n < 1e6 {
+        format!("{}", n.round())
+    } else {
+        format!("{n:.3e}")
+    }
 }
 
 /// Parse a memory size: bytes, or a number with a unit (B, kB, MB, GB, TB, KiB, MiB, GiB, TiB).
@@ -179,10 +192,9 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
     let mut stages = Vec::new();
     let limit = ceiling.bytes;
     let over = |b: f64| !(b <= limit);
-    let saved_steps = scene
-        .compression
-        .as_ref()
-        .map_or(1.0, |k| (k.steps as f64) * if k.unload { 2.0 } else { 1.0 } + 1.0);
+    let saved_steps = scene.compression.as_ref().map_or(1.0, |k| {
+        (k.steps as f64) * if k.unload { 2.0 } else { 1.0 } + 1.0
+    });
     let node_bytes = DISCRETE_BYTES_PER_NODE + CHECKPOINT_BYTES_PER_NODE * saved_steps;
     let lower_steps = if scene.compression.is_some() {
         ", fewer compression.steps"
@@ -191,17 +203,14 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
     };
     if let Some(t) = &scene.turf {
         let tubes = t.tube_count();
-        let segment = t
-            .tube
-            .segment
-            .map_or(t.growth.length.0 / 20.0, |s| s.0);
+        let segment = t.tube.segment.map_or(t.growth.length.0 / 20.0, |s| s.0);
         let per_tube = (t.growth.length.0 / segment).ceil().max(2.0);
         let nodes = tubes * (per_tube + 1.0);
         let bytes = nodes * node_bytes;
         let detail = format!(
             "{} tubes (turf.density × turf.box) × {} segments (turf.growth.length / turf.tube.segment)",
-            sig(tubes),
-            sig(per_tube)
+            count_text(tubes),
+            count_text(per_tube)
         );
         if over(bytes) {
             c.bad(
@@ -223,7 +232,7 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
     if let Some(r) = &scene.rods {
         let nodes: f64 = r.rod.iter().map(|r| r.segments as f64 + 1.0).sum();
         let bytes = nodes * node_bytes;
-        let detail = format!("{} rod nodes (rods.rod[i].segments + 1)", sig(nodes));
+        let detail = format!("{} rod nodes (rods.rod[i].segments + 1)", count_text(nodes));
         if over(bytes) {
             let i = (0..r.rod.len())
                 .max_by_key(|&i| r.rod[i].segments)
@@ -248,7 +257,7 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
         let bytes = HALFSPACE_MATRICES * 8.0 * est * est;
         let detail = format!(
             "about {} grid nodes (halfspace.cells_per_zone{}), dense matrices",
-            sig(est.round()),
+            count_text(est),
             if scene.halfspace.as_ref().is_some_and(|h| h.refinement) {
                 ", finest grid of halfspace.refinement"
             } else {
@@ -283,11 +292,11 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
                 "mesh.max_elements",
                 format!(
                     "{} elements would need about {}, beyond the memory ceiling {} ({}): at most {} on this machine",
-                    sig(n),
+                    count_text(n),
                     bytes_text(bytes),
                     bytes_text(limit),
                     ceiling.source,
-                    sig(elements_within(limit))
+                    count_text(elements_within(limit))
                 ),
             );
         }
@@ -295,7 +304,7 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
         stages.push(StageMemory {
             stage: Stage::Continuum,
             bytes: cap * FE_BYTES_PER_ELEMENT,
-            detail: format!("at most {} elements (mesh.max_elements)", sig(cap)),
+            detail: format!("at most {} elements (mesh.max_elements)", count_text(cap)),
         });
     }
     Memory { ceiling, stages }
