@@ -191,7 +191,8 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
     };
     let mut stages = Vec::new();
     let limit = ceiling.bytes;
-    let over = |b: f64| !(b <= limit);
+    // a NaN estimate counts as over
+    let over = |b: f64| b.is_nan() || b > limit;
     let saved_steps = scene.compression.as_ref().map_or(1.0, |k| {
         (k.steps as f64) * if k.unload { 2.0 } else { 1.0 } + 1.0
     });
