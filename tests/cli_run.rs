@@ -248,3 +248,132 @@ fn bench_quick_reports_every_fidelity_with_its_error_and_cost() {
     assert!(!md.contains("NaN") && md.contains("| cantilever"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `turf` with `TURF_MAX_MEMORY` set.
+fn turf_with_ceiling(ceiling: &str, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_turf"))
+        .args(args)
+        .env("TURF_MAX_MEMORY", ceiling)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the turf binary runs")
+}
+
+/// Issue 23 item 1: `check` prints each sized stage's memory; a scene beyond the ceiling is
+/// refused by `check` and by `run` before anything runs or is written, naming the key, the
+/// estimate and the ceiling's source.
+#[test]
+fn scenes_beyond_the_memory_ceiling_are_refused_by_check_and_run() {
+    let out = turf(&["check", "scenes/jkr_sphere.toml"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("memory (estimates; ceiling") && stdout.contains("grid nodes"),
+        "{stdout}"
+    );
+    for (scene, ceiling, key) in [
+        (
+            "scenes/jkr_sphere.toml",
+            "100 kB",
+            "halfspace.cells_per_zone",
+        ),
+        ("scenes/turf_compression.toml", "10 kB", "turf.box"),
+        (
+            "scenes/rods_cantilever.toml",
+            "10 kB",
+            "rods.rod[0].segments",
+        ),
+    ] {
+        let out = turf_with_ceiling(ceiling, &["check", scene]);
+        let err = text(&out.stderr);
+        assert!(
+            !out.status.success(),
+            "{scene} passed check under {ceiling}"
+        );
+        assert!(
+            err.contains(key) && err.contains("memory ceiling") && err.contains("TURF_MAX_MEMORY"),
+            "{err}"
+        );
+        let dir = temp("ceiling");
+        let out = turf_with_ceiling(ceiling, &["run", scene, "--out", dir.to_str().unwrap()]);
+        assert!(!out.status.success());
+        assert!(text(&out.stderr).contains(key));
+        assert!(!dir.exists(), "a refused run wrote {}", dir.display());
+    }
+    let out = turf(&[
+        "check",
+        "scenes/rods_cantilever.toml",
+        "--set",
+        "rods.rod[0].segments=1000000000000",
+    ]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("rods.rod[0].segments (from --set)"));
+    let out = turf_with_ceiling("lots", &["check", "scenes/hertz.toml"]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("TURF_MAX_MEMORY=\"lots\" is not a memory size"));
+}
+
+/// `check --json` prints a refusal as a JSON object (it printed plain text).
+#[test]
+fn check_json_of_a_refused_scene_is_json() {
+    let out = turf(&[
+        "check",
+        "scenes/jkr_sphere.toml",
+        "--json",
+        "--set",
+        "material.poisson=0.5",
+    ]);
+    assert!(!out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", text(&out.stdout)));
+    assert_eq!(v["valid"], false);
+    assert_eq!(v["problems"][0]["key"], "material.poisson");
+    assert_eq!(v["problems"][0]["from_command_line"], true);
+    assert!(v["error"].as_str().unwrap().contains("[0, 0.5)"));
+    let out = turf(&["check", "scenes/missing.toml", "--json"]);
+    assert!(!out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["error"].as_str().unwrap().contains("cannot read scene"));
+    let out = turf(&["check", "scenes/jkr_sphere.toml", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["valid"], true);
+    assert!(v["plan"]["memory"]["ceiling"]["bytes"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn run_refuses_an_empty_output_folder() {
+    let out = turf(&["run", "scenes/jkr_sphere.toml", "--out", ""]);
+    assert!(!out.status.success());
+    // clap refuses the empty value
+    assert!(text(&out.stderr).contains("--out"));
+    let out = turf(&["run", "scenes/jkr_sphere.toml", "--set", "output.dir=\"\""]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("output.dir"));
+}
+
+/// A ramp given by its time (here 1e-300 s) runs: it failed with "rate unresolved".
+#[test]
+fn a_ramp_given_by_its_time_runs() {
+    let dir = temp("by-time");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hertz.toml"))
+            .unwrap()
+            .replacen("rate = \"1 nm/s\"", "time = \"1e-300 s\"", 1);
+    let file = dir.join("by_time.toml");
+    std::fs::write(&file, scene).unwrap();
+    let out = turf(&[
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+        "--set",
+        "solver.increments=8",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(v["complete"], true);
+    std::fs::remove_dir_all(&dir).ok();
+}

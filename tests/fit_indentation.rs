@@ -492,3 +492,26 @@ proptest! {
         }
     }
 }
+
+/// Issue 23: a record saved by a spreadsheet — UTF-8 byte-order mark, quoted header and
+/// fields, CRLF line ends — reads as the plain CSV does (it was refused).
+#[test]
+fn a_record_with_a_bom_and_quoted_fields_reads_like_the_plain_one() {
+    let (t, p, h) = synthetic(&rheology(&NEARLY_IDEAL, &TRUTH), 20);
+    let plain = csv(&t, &p, &h);
+    let quoted: String = plain
+        .lines()
+        .map(|l| {
+            l.split(',')
+                .map(|c| format!("\"{c}\""))
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\r\n");
+    let a = parse_record(&plain, "plain.csv").unwrap();
+    let b = parse_record(&format!("\u{feff}{quoted}\r\n"), "quoted.csv").unwrap();
+    assert_eq!(a, b);
+    let e = parse_record("\"time_s,load_uN,depth_nm\n0,0,0\n", "open.csv").unwrap_err();
+    assert!(e.to_string().contains("not closed"), "{e}");
+}

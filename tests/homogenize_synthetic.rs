@@ -140,3 +140,16 @@ fn tangent_law_is_recovered_within_its_standard_errors() {
     let rms = (zs.iter().map(|z| z * z).sum::<f64>() / zs.len() as f64).sqrt();
     assert!(rms > Z_RMS_BAND.0 && rms < Z_RMS_BAND.1, "z rms {rms}");
 }
+
+/// Issue 23: a curve saved by a spreadsheet — UTF-8 byte-order mark, quoted header and
+/// fields — reads as the plain CSV does (it was refused).
+#[test]
+fn a_curve_with_a_bom_and_quoted_fields_reads_like_the_plain_one() {
+    let plain =
+        "strain,stress_MPa\n0.01,6.3\n0.02,11.4\n0.03,15.6\n0.04,19.2\n0.05,22.3\n0.06,25.0\n";
+    let quoted = "\u{feff}\"strain\",\"stress_MPa\"\r\n\"0.01\",\"6.3\"\r\n\"0.02\", \"11.4\"\r\n\"0.03\",\"15.6\"\r\n\"0.04\",\"19.2\"\r\n\"0.05\",\"22.3\"\r\n\"0.06\",\"25.0\"\r\n";
+    let a = StressStrainCurve::from_csv(plain, "plain.csv").unwrap();
+    let b = StressStrainCurve::from_csv(quoted, "quoted.csv").unwrap();
+    assert_eq!(a.strain, b.strain);
+    assert_eq!(a.stress, b.stress);
+}

@@ -454,3 +454,134 @@ fn the_sphere_indenter_keys_are_checked() {
     let msg = error(TURF, &["compression.indenter=\"cone\""]);
     assert_has(&msg, &["compression.indenter", "`platen`", "`sphere`"]);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Issue 23: every size bounded before it is allocated, every number representable
+
+/// The rods scene of the memory tests: one cantilever of `segments` segments.
+fn rods(segments: &str) -> String {
+    format!(
+        r#"[rods.tube]
+r_o = "20 nm"
+r_i = "17.3 nm"
+youngs = "0.4 TPa"
+
+[[rods.rod]]
+points = [["0 nm", "0 nm", "0 nm"], ["7 um", "0 nm", "0 nm"]]
+segments = {segments}
+"#
+    )
+}
+
+/// Sizes far beyond any machine's memory (petabytes and more, so any ceiling refuses them):
+/// each is refused by the loader, before anything is allocated, naming its key, the estimate,
+/// the ceiling and how to lower it.
+#[test]
+fn sizes_beyond_the_memory_ceiling_are_refused_naming_their_keys() {
+    let e = error(TURF, &["turf.box=[\"1 m\", \"1 m\"]"]);
+    assert_has(
+        &e,
+        &[
+            "turf.box",
+            "1.000e14 tubes",
+            "memory ceiling",
+            "smaller turf.box or turf.density",
+        ],
+    );
+    let e = error(GOOD, &["halfspace.cells_per_zone=1000000000"]);
+    assert_has(
+        &e,
+        &[
+            "halfspace.cells_per_zone",
+            "grid nodes",
+            "memory ceiling",
+            "lower halfspace.cells_per_zone",
+        ],
+    );
+    let e = error(&rods("1000000000000"), &[]);
+    assert_has(
+        &e,
+        &[
+            "rods.rod[0].segments",
+            "rod nodes",
+            "memory ceiling",
+            "fewer segments",
+        ],
+    );
+    let e = error(FE, &["mesh.max_elements=1000000000000000"]);
+    assert_has(
+        &e,
+        &[
+            "mesh.max_elements",
+            "1.000e15 elements",
+            "memory ceiling",
+            "at most",
+        ],
+    );
+    // a tube segment of a femtometre along a 7 µm tube: 7e9 segments per tube
+    let e = error(TURF, &["turf.tube.segment=1e-6"]);
+    assert_has(&e, &["turf.box", "turf.tube.segment", "memory ceiling"]);
+}
+
+#[test]
+fn the_memory_estimate_of_a_valid_scene_is_in_its_plan() {
+    let l = load_str(&rods("20"), Path::new("r.toml"), &[]).unwrap();
+    let m = l.base.plan.memory.expect("a memory estimate");
+    assert!(m.ceiling.bytes > 0.0);
+    assert_eq!(m.stages.len(), 1);
+    assert!(m.stages[0].bytes > 0.0 && m.stages[0].bytes < 1e6);
+    let l = load_str(GOOD, Path::new("g.toml"), &[]).unwrap();
+    let hs = &l.base.plan.memory.unwrap().stages[0];
+    assert!(hs.bytes > 1e3 && hs.bytes < 1e9, "{hs:?}");
+}
+
+#[test]
+fn cells_per_zone_must_be_a_whole_number() {
+    let e = error(GOOD, &["halfspace.cells_per_zone=12.5"]);
+    assert_has(&e, &["halfspace.cells_per_zone", "12.5", "whole number"]);
+}
+
+#[test]
+fn an_empty_output_folder_is_refused() {
+    let e = error(GOOD, &["output.dir=\"\""]);
+    assert_has(&e, &["output.dir", "name a folder"]);
+}
+
+#[test]
+fn homogenize_terms_are_limited_to_what_the_fit_supports() {
+    let law = "[homogenize]\ncurve = \"tangent-law\"\ne0 = \"700 MPa\"\ne_inf = \"70 MPa\"\neps0 = 0.05\n";
+    load_str(&format!("{law}terms = 3\n"), Path::new("h.toml"), &[]).unwrap();
+    let e = error(&format!("{law}terms = 4\n"), &[]);
+    assert_has(&e, &["homogenize.terms", "4", "1..=3"]);
+}
+
+/// A ramp given by its time gets its rate resolved at load (it failed at run time with "rate
+/// unresolved"); a time or rate whose rate or duration is not a finite positive number is
+/// refused naming the key.
+#[test]
+fn a_ramp_given_by_time_is_resolved_and_unrepresentable_ones_are_refused() {
+    let by_time = FE.replacen("rate = \"10 nm/s\"", "time = \"5 s\"", 1);
+    let l = load_str(&by_time, Path::new("t.toml"), &[]).unwrap();
+    let seg = &l.base.scene.schedule.as_ref().unwrap().segment[0];
+    assert_eq!(
+        seg.rate.as_ref().and_then(|r| r.number()),
+        Some(10.0),
+        "{seg:?}"
+    );
+    // 1e-300 s is representable: a rate of 5e301 nm/s
+    let instant = FE.replacen("rate = \"10 nm/s\"", "time = \"1e-300 s\"", 1);
+    load_str(&instant, Path::new("t.toml"), &[]).unwrap();
+    let subnormal = FE.replacen("rate = \"10 nm/s\"", "time = \"1e-320 s\"", 1);
+    let e = error(&subnormal, &[]);
+    assert_has(&e, &["schedule.segment[0].time", "finite positive"]);
+    let e = error(FE, &["schedule.segment[0].rate=1e-320"]);
+    assert_has(&e, &["schedule.segment[0].rate", "finite positive time"]);
+}
+
+/// E = 1e300 GPa: E*² overflows, Tabor μ and Maugis λ come out 0 and the theory stage failed
+/// at run time without naming a key.
+#[test]
+fn a_modulus_beyond_double_precision_is_refused_at_material_youngs() {
+    let e = error(GOOD, &["material.youngs=1e300"]);
+    assert_has(&e, &["material.youngs", "Tabor μ = 0", "double precision"]);
+}

@@ -224,3 +224,92 @@ fn law_json_for_both_laws_with_the_seed_numbers() {
         assert!(!ok && err.contains(flag), "{err}");
     }
 }
+
+/// Issue 23: a count beyond 10⁷ points or samples is refused before anything is allocated or
+/// written, naming the flag and the maximum.
+#[test]
+fn counts_beyond_the_maximum_are_refused_naming_the_flag() {
+    let out = std::env::temp_dir().join(format!("turf-counts-{}", std::process::id()));
+    let o = out.to_str().unwrap();
+    let (ok, _, err) = turf(&[
+        "theory",
+        "curve",
+        "--model",
+        "hertz",
+        "--radius",
+        "1 um",
+        "--modulus",
+        "1 GPa",
+        "--points",
+        "1000000000",
+        "--out",
+        o,
+    ]);
+    assert!(
+        !ok && err.contains("--points 1000000000") && err.contains("10000000"),
+        "{err}"
+    );
+    let (ok, _, err) = turf(&[
+        "theory",
+        "indentation-law",
+        "--machine-k1",
+        "200 N/m",
+        "--machine-k2",
+        "1e5 N/m",
+        "--specimen-k1",
+        "100 N/m",
+        "--specimen-k2",
+        "50 N/m",
+        "--viscosity",
+        "1 uN*s/nm",
+        "--peak",
+        "10 uN",
+        "--load-time",
+        "10 s",
+        "--hold-time",
+        "10 s",
+        "--unload-time",
+        "10 s",
+        "--samples",
+        "1000000000",
+        "--out",
+        o,
+    ]);
+    assert!(!ok && err.contains("--samples 1000000000"), "{err}");
+    let law = "E0=700MPa,Einf=70MPa,eps0=0.05";
+    let (ok, _, err) = turf(&[
+        "homogenize",
+        "--tangent-law",
+        law,
+        "--samples",
+        "1000000000",
+        "--out",
+        o,
+    ]);
+    assert!(!ok && err.contains("--samples 1000000000"), "{err}");
+    // hyperfoam terms: 1 to 3, as homogenize.terms in a scene
+    for n in ["0", "4"] {
+        let (ok, _, err) = turf(&["homogenize", "--tangent-law", law, "--terms", n, "--out", o]);
+        assert!(
+            !ok && err.contains(&format!("--terms {n}")) && err.contains("1..=3"),
+            "{err}"
+        );
+    }
+    assert!(!out.exists(), "a refused command wrote {}", out.display());
+}
+
+/// Issue 23: a tube of 1e300 nm overflows u = (0.4243 l³kT/(Y(r_o⁴ − r_i⁴)))^(1/2); it printed
+/// `"u_rms_nm": null` and exited 0.
+#[test]
+fn thermal_amplitude_beyond_double_precision_is_an_error() {
+    let (ok, out, err) = turf(&[
+        "theory", "thermal", "--length", "1e300", "--ro", "20 nm", "--ri", "17.3 nm", "--youngs",
+        "0.4 TPa", "--json",
+    ]);
+    assert!(!ok, "{out}");
+    assert!(
+        err.contains("--length 1e300") && err.contains("not finite"),
+        "{err}"
+    );
+    assert!(!out.contains("null"), "{out}");
+}

@@ -19,13 +19,13 @@ pub struct HomogenizeArgs {
     /// A compressive stress-strain curve (CSV: strain, stress_MPa|stress_GPa|..., optional lateral_strain).
     #[arg(long, value_name = "CSV")]
     pub curve: Option<PathBuf>,
-    /// Hyperfoam terms N (1 to 3).
+    /// Hyperfoam terms N (1 to 3, as `homogenize.terms` in a scene).
     #[arg(long, default_value_t = 1)]
     pub terms: usize,
     /// Upper end of the fitted nominal compressive strain (default 0.3: reproduces seed Table 5.1).
     #[arg(long, default_value_t = homogenize::fit_hyperfoam::DEFAULT_STRAIN_MAX)]
     pub strain_max: f64,
-    /// Points at which a tangent law is sampled.
+    /// Points at which a tangent law is sampled (at most 10⁷).
     #[arg(long, default_value_t = homogenize::DEFAULT_SAMPLES)]
     pub samples: usize,
     /// Hold the hyperfoam's initial modulus at the tangent law's E0 (default: yes for
@@ -81,6 +81,14 @@ pub fn run(args: HomogenizeArgs) -> anyhow::Result<()> {
         },
         _ => anyhow::bail!("give exactly one of --tangent-law or --curve"),
     };
+    let max_terms = homogenize::fit_hyperfoam::MAX_FIT_TERMS;
+    if !(1..=max_terms).contains(&args.terms) {
+        anyhow::bail!(
+            "--terms {} is not allowed: must lie in 1..={max_terms}",
+            args.terms
+        );
+    }
+    super::bounded_count("samples", args.samples, 1)?;
     let mut params = HomogenizeParams::new(source);
     params.terms = args.terms;
     params.strain_max = args.strain_max;

@@ -5,6 +5,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use turf::pipeline::{self, RunOptions};
 use turf::scene::plan::{sig, Plan};
+use turf::scene::resources::{bytes_text, FE_BYTES_PER_ELEMENT};
 use turf::scene::{self, Loaded, ResolvedScene};
 
 /// Arguments of `turf run`.
@@ -87,7 +88,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
 
 /// `turf check`.
 pub fn check(args: CheckArgs) -> anyhow::Result<()> {
-    let loaded = scene::load(&args.scene, &args.set)?;
+    let loaded = match scene::load(&args.scene, &args.set) {
+        Ok(l) => l,
+        Err(e) if args.json => {
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&error_json(&args.scene, &e))?
+            );
+            return Err(e.into());
+        }
+        Err(e) => return Err(e.into()),
+    };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&check_json(&loaded))?);
     } else {
@@ -96,9 +107,39 @@ pub fn check(args: CheckArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// `turf check --json` of a refused scene: `valid: false`, the error and, for invalid keys,
+/// each problem with its key, line and message.
+fn error_json(file: &std::path::Path, e: &scene::SceneError) -> serde_json::Value {
+    let problems: Vec<_> = e
+        .problems()
+        .iter()
+        .map(|p| {
+            serde_json::json!({
+                "key": p.key,
+                "line": p.line,
+                "from_command_line": p.is_from_command_line,
+                "message": p.message,
+            })
+        })
+        .collect();
+    let mut error = e.to_string();
+    let mut source = std::error::Error::source(e);
+    while let Some(s) = source {
+        error.push_str(&format!(": {s}"));
+        source = s.source();
+    }
+    serde_json::json!({
+        "file": file.display().to_string(),
+        "valid": false,
+        "error": error,
+        "problems": problems,
+    })
+}
+
 fn check_json(loaded: &Loaded) -> serde_json::Value {
     let b = &loaded.base;
     let mut v = serde_json::json!({
+        "valid": true,
         "file": b.file.display().to_string(),
         "name": b.name(),
         "output": scene::output_dir(b, None).display().to_string(),
@@ -132,6 +173,7 @@ fn check_text(loaded: &Loaded) -> String {
         scene::output_dir(b, None).display()
     ));
     s.push_str(&plan_text(&b.plan));
+    s.push_str(&memory_text(&b.plan));
     s.push_str(&mesh_text(b));
     if let Some(sw) = &b.scene.sweep {
         s.push_str(&format!(
@@ -152,6 +194,27 @@ fn check_text(loaded: &Loaded) -> String {
     s
 }
 
+/// Each sized stage's memory estimate against the ceiling.
+fn memory_text(plan: &Plan) -> String {
+    let Some(m) = &plan.memory else {
+        return String::new();
+    };
+    let mut s = format!(
+        "\nmemory (estimates; ceiling {}, {}):\n",
+        bytes_text(m.ceiling.bytes),
+        m.ceiling.source
+    );
+    for st in &m.stages {
+        s.push_str(&format!(
+            "  {:<11} {:>12}   {}\n",
+            st.stage.name(),
+            bytes_text(st.bytes),
+            st.detail
+        ));
+    }
+    s
+}
+
 /// The FE mesh the run would build: process zone, smallest element and element count.
 fn mesh_text(scene: &ResolvedScene) -> String {
     match pipeline::mesh_preview(scene) {
@@ -167,10 +230,11 @@ fn mesh_text(scene: &ResolvedScene) -> String {
                 )
             });
             format!(
-                "\nFE mesh: {zone}{} elements, {} nodes (contact radius {} nm)\n",
+                "\nFE mesh: {zone}{} elements, {} nodes (contact radius {} nm), about {} in the solve\n",
                 m.elements,
                 m.nodes,
-                sig(m.contact_radius_nm)
+                sig(m.contact_radius_nm),
+                bytes_text(m.elements as f64 * FE_BYTES_PER_ELEMENT)
             )
         }
     }

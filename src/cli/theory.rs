@@ -143,7 +143,7 @@ struct CurveArgs {
     /// largest contact radius (default 3 in ā, or R/10 for hertz)
     #[arg(long)]
     a_max: Option<String>,
-    /// number of points
+    /// number of points, 2 to 10⁷
     #[arg(long, default_value_t = 200)]
     points: usize,
     /// output folder (curve.csv, plots/curve.svg, plots/curve.png)
@@ -255,7 +255,7 @@ struct IndentationLawArgs {
     /// duration of the unloading ramp
     #[arg(long)]
     unload_time: String,
-    /// samples per segment
+    /// samples per segment, 1 to 10⁷
     #[arg(long, default_value_t = 100)]
     samples: usize,
     /// output folder (indentation_law.csv)
@@ -370,9 +370,7 @@ fn halfspace(a: &HalfspaceArgs) -> anyhow::Result<Value> {
 }
 
 fn curve(a: &CurveArgs) -> anyhow::Result<Value> {
-    if a.points < 2 {
-        bail!("--points must be at least 2, got {}", a.points);
-    }
+    super::bounded_count("points", a.points, 2)?;
     let gamma = match (&a.gamma, a.model) {
         (Some(g), _) => Some(positive(
             "γ",
@@ -499,9 +497,25 @@ fn thermal(a: &ThermalArgs) -> anyhow::Result<Value> {
         youngs: quantity("youngs", &a.youngs, Dimension::Pressure)?,
     };
     let t = quantity("temperature", &a.temperature, Dimension::Temperature)?;
+    let u = c.rms_tip_amplitude(t).with_context(|| {
+        format!(
+            "--length {}, --ro {}, --ri {}, --youngs {}, --temperature {}",
+            a.length, a.ro, a.ri, a.youngs, a.temperature
+        )
+    })?;
+    let k = c.bending_stiffness();
+    if !k.is_finite() {
+        bail!(
+            "bending stiffness Y·π(r_o⁴ − r_i⁴)/4 = {k} is not finite for --ro {}, --ri {}, \
+             --youngs {}: the inputs overflow double precision",
+            a.ro,
+            a.ri,
+            a.youngs
+        );
+    }
     Ok(json!({
-        "u_rms_nm": c.rms_tip_amplitude(t)?,
-        "bending_stiffness_nN_nm2": c.bending_stiffness(),
+        "u_rms_nm": u,
+        "bending_stiffness_nN_nm2": k,
     }))
 }
 
@@ -552,7 +566,7 @@ fn indentation_law(a: &IndentationLawArgs) -> anyhow::Result<Value> {
         time("hold-time", &a.hold_time)?,
         time("unload-time", &a.unload_time)?,
     );
-    let samples = r.simulate(&schedule, a.samples)?;
+    let samples = r.simulate(&schedule, super::bounded_count("samples", a.samples, 1)?)?;
     let col =
         |f: fn(&theory::indentation_law::Sample) -> f64| samples.iter().map(f).collect::<Vec<_>>();
     let csv = a.out.join("indentation_law.csv");

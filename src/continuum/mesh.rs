@@ -24,7 +24,8 @@ pub enum MeshError {
     #[error(
         "mesh: the sizes ask for more than {max} elements (smallest {smallest} nm over a fine zone \
          {fine_radius} nm wide and {fine_depth} nm deep, block {width} × {depth} nm) — coarsen \
-         mesh.smallest, shrink the fine zone (a smaller load or depth), or raise mesh.max_elements"
+         mesh.smallest, shrink the fine zone (a smaller load or depth), or raise mesh.max_elements \
+         (at most what the memory ceiling holds, TURF_MAX_MEMORY)"
     )]
     TooLarge {
         /// the ceiling
@@ -149,6 +150,18 @@ pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
     let nx = ((width / root).round() as u64).max(1);
     let ny = ((depth / root).round() as u64).max(1);
     let size = |l: u32| root / 2f64.powi(l as i32);
+    // every root cell becomes at least two triangles: a block far wider than deep (or the
+    // reverse) is refused before its root cells are listed
+    if 2.0 * nx as f64 * ny as f64 > max_elements as f64 {
+        return Err(MeshError::TooLarge {
+            max: max_elements,
+            smallest: h0,
+            fine_radius,
+            fine_depth,
+            width,
+            depth,
+        });
+    }
 
     // refine by the size criterion
     let mut leaves: BTreeSet<Cell> = BTreeSet::new();

@@ -167,7 +167,7 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         column: column.map(str::to_string),
         reason,
     };
-    let lines: Vec<(usize, &str)> = text
+    let lines: Vec<(usize, &str)> = crate::report::csv::strip_bom(text)
         .lines()
         .enumerate()
         .map(|(i, l)| (i + 1, l.trim_end()))
@@ -196,10 +196,11 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         Format::NanoindenterText => '\t',
     };
     let (header_line, header) = lines[header_at];
-    let names: Vec<&str> = header
-        .split(sep)
-        .map(|s| s.trim().trim_matches('"'))
-        .collect();
+    let split = |n: usize, line: &str| {
+        crate::report::csv::split_fields(line, sep).map_err(|e| err(Some(n), None, e))
+    };
+    let names_owned = split(header_line, header)?;
+    let names: Vec<&str> = names_owned.iter().map(String::as_str).collect();
     let mut found: [Option<Column>; 3] = [None, None, None];
     for (index, name) in names.iter().enumerate() {
         let Some((q, unit)) = split_name(name, format) else {
@@ -266,7 +267,7 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         if line.trim().is_empty() || (format == Format::Csv && line.trim_start().starts_with('#')) {
             continue;
         }
-        let cells: Vec<&str> = line.split(sep).map(str::trim).collect();
+        let cells = split(n, line)?;
         if cells.len() < width {
             return Err(err(
                 Some(n),
@@ -275,7 +276,7 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
             ));
         }
         for (k, c) in cols.iter().enumerate() {
-            let cell = cells[c.index];
+            let cell = cells[c.index].as_str();
             let v: f64 = cell.parse().map_err(|_| {
                 err(
                     Some(n),

@@ -47,6 +47,23 @@ impl GridSpec {
         self.fine_spacing + self.growth * d
     }
 
+    /// The number of nodes [`Self::build`] makes, in closed form (no grid is built): the
+    /// uniform zone holds (ρ_hi − ρ_lo)/s_f cells and a graded stretch of length L beside it
+    /// ln(1 + gL/s_f)/g (from dρ/di = s_f + g·d). Within a few nodes of the count.
+    pub fn estimated_len(&self) -> f64 {
+        let graded = |length: f64| {
+            let length = length.max(0.0);
+            if self.growth > 0.0 {
+                (self.growth * length / self.fine_spacing).ln_1p() / self.growth
+            } else {
+                length / self.fine_spacing
+            }
+        };
+        let lo = self.zone_lo.min(self.outer);
+        let hi = self.zone_hi.clamp(lo, self.outer);
+        2.0 + graded(lo) + (hi - lo) / self.fine_spacing + graded(self.outer - hi)
+    }
+
     /// Build the grid (at least two nodes).
     pub fn build(&self) -> Grid {
         let mut nodes = vec![0.0];
@@ -134,6 +151,15 @@ mod tests {
         let b = *g.edges.last().unwrap();
         let s: f64 = g.load_weights().iter().sum();
         assert!((s - b * b).abs() < 1e-10 * b * b);
+    }
+
+    #[test]
+    fn estimated_length_is_within_a_few_nodes_of_the_built_grid() {
+        for factor in [1.0, 2.0, 4.0, 16.0] {
+            let s = spec().refined(factor);
+            let (built, est) = (s.build().len() as f64, s.estimated_len());
+            assert!((built - est).abs() <= 3.0 + 0.02 * built, "{built} {est}");
+        }
     }
 
     #[test]

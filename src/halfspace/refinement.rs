@@ -77,6 +77,23 @@ pub fn trace_grid<T: Traction>(
     }
 }
 
+/// Nodes of the finest grid [`pull_off`] or [`super::trace_curve`] would build with `params`
+/// (the trace grid, refined twice by `refinement_ratio` when `refinement`), in closed form: the
+/// memory of a run is checked against it before any grid is built.
+pub fn estimated_nodes<T: Traction>(
+    problem: &Problem<T>,
+    params: &HalfspaceParams,
+    refinement: bool,
+) -> f64 {
+    let spec = trace_grid(problem, params, 0.0, 0.0);
+    let spec = if refinement {
+        spec.refined(params.refinement_ratio.powi(2))
+    } else {
+        spec
+    };
+    spec.estimated_len()
+}
+
 /// One grid of the refinement study.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct RefinementLevel {

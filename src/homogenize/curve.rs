@@ -79,20 +79,24 @@ struct Csv {
 }
 
 fn parse_csv(text: &str, src: &str) -> Result<Csv, CurveError> {
-    let mut lines = text
+    let split = |line: usize, row: &str| {
+        crate::report::csv::split_fields(row, ',')
+            .map_err(|e| err(src, format!("line {line}: {e}")))
+    };
+    let mut lines = crate::report::csv::strip_bom(text)
         .lines()
         .enumerate()
         .map(|(i, l)| (i + 1, l.trim()))
         .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    let (_, header) = lines.next().ok_or_else(|| {
+    let (header_line, header) = lines.next().ok_or_else(|| {
         err(
             src,
             "empty file: expected a header row and data rows".into(),
         )
     })?;
-    let names: Vec<String> = header
-        .split(',')
-        .map(|s| s.trim().trim_matches('"').to_ascii_lowercase())
+    let names: Vec<String> = split(header_line, header)?
+        .iter()
+        .map(|s| s.to_ascii_lowercase())
         .collect();
     if names.iter().any(|n| n.parse::<f64>().is_ok()) {
         return Err(err(
@@ -102,7 +106,7 @@ fn parse_csv(text: &str, src: &str) -> Result<Csv, CurveError> {
     }
     let mut columns = vec![Vec::new(); names.len()];
     for (line, row) in lines {
-        let cells: Vec<&str> = row.split(',').map(str::trim).collect();
+        let cells = split(line, row)?;
         if cells.len() != names.len() {
             return Err(err(
                 src,

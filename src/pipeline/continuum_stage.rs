@@ -223,8 +223,14 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         mesh.smallest = m.smallest.map(|l| l.0);
         mesh.grading = m.grading.0 - 1.0;
     }
-    if let Some(n) = s.mesh.as_ref().and_then(|m| m.max_elements) {
-        mesh.max_elements = usize::try_from(n).unwrap_or(usize::MAX);
+    // mesh.max_elements, and never more than the memory ceiling holds (scene::resources)
+    match &scene.plan.memory {
+        Some(memory) => mesh.max_elements = memory.max_elements(s),
+        None => {
+            if let Some(n) = s.mesh.as_ref().and_then(|m| m.max_elements) {
+                mesh.max_elements = usize::try_from(n).unwrap_or(usize::MAX);
+            }
+        }
     }
     let mut params = IndentParams {
         indenter,

@@ -1,5 +1,9 @@
 //! CSV tables of curves: one header row whose names carry their units (`depth_nm`, `load_nN`),
 //! then one row per point. Written atomically; NaN or infinite values are refused.
+//!
+//! Reading (the curve and record readers of `homogenize` and `experiment`): [`strip_bom`]
+//! drops a UTF-8 byte-order mark, [`split_fields`] splits a line honouring double-quoted
+//! fields, as spreadsheets write them.
 
 use super::{write_atomic, ReportError};
 use std::path::Path;
@@ -76,9 +80,58 @@ impl Table {
     }
 }
 
+/// `text` without a leading UTF-8 byte-order mark (spreadsheets on Windows write one).
+pub fn strip_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
+}
+
+/// Split one line at `sep` into trimmed fields; a field may be enclosed in double quotes
+/// (`"1.5"`, `"load, uN"`), inside which `sep` is literal and `""` is one quote. An
+/// unterminated quote is an error.
+pub fn split_fields(line: &str, sep: char) -> Result<Vec<String>, String> {
+    let mut fields = Vec::new();
+    let mut field = String::new();
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                field.push('"');
+            }
+            (true, '"') => quoted = false,
+            (true, c) => field.push(c),
+            (false, '"') if field.trim().is_empty() => {
+                field.clear();
+                quoted = true;
+            }
+            (false, c) if c == sep => fields.push(std::mem::take(&mut field).trim().to_string()),
+            (false, c) => field.push(c),
+        }
+    }
+    if quoted {
+        return Err("a double-quoted field is not closed".into());
+    }
+    fields.push(field.trim().to_string());
+    Ok(fields)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fields_split_with_quotes_and_a_bom_is_dropped() {
+        let f = |l: &str| split_fields(l, ',').unwrap();
+        assert_eq!(f("a, b ,c"), ["a", "b", "c"]);
+        assert_eq!(f("\"strain\", \"stress_MPa\""), ["strain", "stress_MPa"]);
+        assert_eq!(f("\"1,5\",\"say \"\"hi\"\"\""), ["1,5", "say \"hi\""]);
+        assert_eq!(f("x,,"), ["x", "", ""]);
+        assert_eq!(split_fields("a\t\"b\"", '\t').unwrap(), ["a", "b"]);
+        assert!(split_fields("\"open,1", ',').is_err());
+        assert_eq!(strip_bom("\u{feff}strain,stress_MPa"), "strain,stress_MPa");
+        assert_eq!(strip_bom("strain"), "strain");
+    }
 
     #[test]
     fn table_round_trips_values_exactly_and_refuses_nan() {

@@ -16,7 +16,8 @@ pub struct Halfspace {
     /// Force–separation law, `"lj93"` or `"lj104"`. Default: `adhesion.law`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub law: Option<LjKind>,
-    /// Grid cells per LJ process zone over the contact region, ≥ 4. Default 12 (pull-off
+    /// Grid cells per LJ process zone over the contact region, a whole number ≥ 4 (and within
+    /// the memory ceiling, `scene::resources`). Default 12 (pull-off
     /// converged to ≤ 0.06 % for μ ≤ 2, docs/validation-halfspace.md).
     #[serde(default = "default_cells")]
     pub cells_per_zone: f64,
@@ -45,5 +46,15 @@ impl Halfspace {
             f64::INFINITY,
             false,
         );
+        if self.cells_per_zone.is_finite() && self.cells_per_zone.fract() != 0.0 {
+            c.bad(
+                "halfspace.cells_per_zone",
+                format!(
+                    "{} is not allowed: a count of grid cells must be a whole number, e.g. {}",
+                    self.cells_per_zone,
+                    self.cells_per_zone.round().max(MIN_CELLS_PER_ZONE)
+                ),
+            );
+        }
     }
 }

@@ -18,14 +18,15 @@ pub enum Curve {
     TangentLaw,
 }
 
-/// Largest number of hyperfoam terms a fit may ask for.
-pub const MAX_TERMS: usize = 6;
+/// Largest number of hyperfoam terms a fit may ask for (the fit's own bound; a card read from
+/// a file may hold up to [`crate::continuum::material::hyperfoam::MAX_TERMS`]).
+pub const MAX_TERMS: usize = crate::homogenize::fit_hyperfoam::MAX_FIT_TERMS;
 
 /// `[homogenize]`: fit options.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Homogenize {
-    /// Hyperfoam terms N, 1 to 6. Default 1 (the seed's Table 5.1).
+    /// Hyperfoam terms N, 1 to 3 (as `turf homogenize --terms`). Default 1 (the seed's Table 5.1).
     #[serde(default = "default_terms")]
     pub terms: usize,
     /// Largest nominal compressive strain fitted, in (0, 1). Default: `compression.to`, or 0.3

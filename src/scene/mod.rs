@@ -25,6 +25,7 @@ pub mod output;
 pub mod overrides;
 pub mod plan;
 pub mod quantity;
+pub mod resources;
 pub mod rods;
 pub mod scene_meta;
 pub mod schedule;
@@ -296,6 +297,7 @@ fn resolve(mut scene: Scene, file: &Path) -> Result<ResolvedScene, Vec<(String, 
         scene.scene.name = Some(stem);
     }
     scene.scene.check(&mut c);
+    scene.output.check(&mut c);
     if let Some(s) = &mut scene.indenter {
         s.check(&mut c);
     }

@@ -1,6 +1,7 @@
 //! `[output]`: where results go and which optional files are written. `summary.json` and
 //! the CSV curves are always written.
 
+use super::check::Checker;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -8,8 +9,8 @@ use std::path::PathBuf;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Output {
-    /// Output folder, relative to the working directory. Default `runs/<scene name>`;
-    /// `turf run --out DIR` overrides both.
+    /// Output folder, relative to the working directory; not empty. Default
+    /// `runs/<scene name>`; `turf run --out DIR` overrides both.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dir: Option<PathBuf>,
     /// Write plots (`plots/*.svg`, `*.png`). Default true.
@@ -35,6 +36,21 @@ impl Default for Output {
             plots: true,
             vtk: false,
             cards: true,
+        }
+    }
+}
+
+impl Output {
+    pub(crate) fn check(&self, c: &mut Checker) {
+        if self
+            .dir
+            .as_ref()
+            .is_some_and(|d| d.as_os_str().to_string_lossy().trim().is_empty())
+        {
+            c.bad(
+                "output.dir",
+                "\"\" is not allowed: name a folder (e.g. \"runs/my_scene\"), or remove the key for runs/<scene name>",
+            );
         }
     }
 }

@@ -19,6 +19,7 @@ use super::mesh::{
     Mesh, DEPTH_PER_CONTACT_RADIUS, ELEMENTS_PER_CONTACT_RADIUS, ELEMENTS_PER_PROCESS_ZONE,
     WIDTH_PER_CONTACT_RADIUS,
 };
+use super::resources::Memory;
 use super::schedule::ScheduleTotals;
 use super::solver::{Kinematics, Solver};
 use super::Scene;
@@ -105,6 +106,10 @@ pub struct Plan {
     pub physics: Vec<Switch>,
     /// key values in internal units
     pub values: Vec<Resolved>,
+    /// the memory each sized stage would allocate and the ceiling it is held to (absent when
+    /// the scene has other problems)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub memory: Option<Memory>,
 }
 
 impl Plan {
@@ -218,6 +223,7 @@ pub(crate) fn plan(
     let model = scene.material.as_ref().map(|m| m.model);
     let linear_sphere = sphere == Some(true) && model == Some(MaterialModel::Linear);
     derive_contact(scene, &mut d);
+    check_contact_range(scene, &d, c);
 
     if linear_sphere {
         let why = match d.tabor_mu {
@@ -263,11 +269,17 @@ pub(crate) fn plan(
     }
     let physics = switches(scene, continuum, &d);
     let values = values(scene, &d);
+    // sizes are estimated only from sections that passed their own checks
+    let memory = c
+        .problems
+        .is_empty()
+        .then(|| super::resources::estimate(scene, c));
     (
         Plan {
             stages,
             physics,
             values,
+            memory,
         },
         d,
     )
@@ -313,6 +325,41 @@ fn derive_contact(scene: &Scene, d: &mut Derived) {
             d.jkr_radius_nm = Some(jkr::zero_load_radius(&s));
         }
     }
+}
+
+/// The dimensionless contact numbers must come out finite and positive: a modulus so large
+/// that E*² overflows double precision gives μ = λ = 0, which no engine can use (the theory
+/// stage would fail at run time without naming a key).
+fn check_contact_range(scene: &Scene, d: &Derived, c: &mut Checker) {
+    let bad = [
+        ("Tabor μ", d.tabor_mu),
+        ("Maugis λ", d.maugis_lambda),
+        ("JKR radius a0", d.jkr_radius_nm),
+        ("process zone ℓ", d.process_zone_nm),
+    ]
+    .into_iter()
+    .find_map(|(name, v)| {
+        v.filter(|v| !(v.is_finite() && *v > 0.0))
+            .map(|v| (name, v))
+    });
+    let (Some((name, v)), Some(m)) = (bad, &scene.material) else {
+        return;
+    };
+    let key = if m.youngs.is_some() {
+        "material.youngs"
+    } else {
+        "material"
+    };
+    c.bad(
+        key,
+        format!(
+            "gives E* = {} GPa and {name} = {v} with indenter.radius, adhesion.gamma and adhesion.z0: \
+             the numbers leave the range of double precision; use a modulus (and radius, γ, z0) \
+             within many orders of magnitude of each other",
+            d.effective_modulus_gpa
+                .map_or("?".into(), |e| format!("{e:.4e}"))
+        ),
+    );
 }
 
 fn plan_discrete(scene: &Scene, stages: &mut Vec<PlannedStage>, d: &mut Derived, c: &mut Checker) {

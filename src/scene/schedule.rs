@@ -49,7 +49,7 @@ pub struct Segment {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub to: Option<Amount>,
     /// Rate of the controlled variable: nm/s for depths, nN/s for loads. Give `rate` or
-    /// `time`, not both (not for a hold).
+    /// `time`, not both (not for a hold); a `time` is resolved into this rate (|Δ|/time).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rate: Option<Amount>,
     /// Duration, s: required for a hold; for the other kinds an alternative to `rate`.
@@ -186,6 +186,21 @@ impl Schedule {
                 }
                 (None, Some(t)) => {
                     c.positive(&key("time"), t);
+                    // the engines take a rate: resolve it from the time once, here
+                    let r = change.abs() / t.0;
+                    if t.0 > 0.0 && change != 0.0 && !(r.is_finite() && r > 0.0) {
+                        c.bad(
+                            key("time"),
+                            format!(
+                                "{} s is not allowed: moving {} {} in it needs a rate of {r}, not a finite positive number",
+                                t.0,
+                                change.abs(),
+                                dim.internal_unit()
+                            ),
+                        );
+                        continue;
+                    }
+                    s.rate = Some(Amount::Number(r));
                     t.0
                 }
                 (Some(rate), None) => {
@@ -195,6 +210,16 @@ impl Schedule {
                         rate.resolve(Dimension::Rate)
                     };
                     match r {
+                        Ok(r) if r > 0.0 && change != 0.0 && !(change.abs() / r).is_normal() => {
+                            c.bad(
+                                key("rate"),
+                                format!(
+                                    "{r} is not allowed: the segment would last {} s, not a finite positive time",
+                                    change.abs() / r
+                                ),
+                            );
+                            continue;
+                        }
                         Ok(r) if r > 0.0 => change.abs() / r,
                         Ok(r) => {
                             c.bad(key("rate"), format!("{r} is not allowed: a rate must be positive (its direction comes from the kind)"));

@@ -67,13 +67,31 @@ impl Cantilever {
         self.check()?;
         let kt = BOLTZMANN_AJ_PER_K * positive("temperature T", temperature)?;
         let r4 = self.r_outer.powi(4) - self.r_inner.powi(4);
-        Ok((MODE_SUM * self.length.powi(3) * kt / (self.youngs * r4)).sqrt())
+        let u = (MODE_SUM * self.length.powi(3) * kt / (self.youngs * r4)).sqrt();
+        if !u.is_finite() {
+            return Err(TheoryError::NotFinite {
+                what: "RMS tip amplitude u = (0.4243 l³ kT/(Y(r_o⁴ − r_i⁴)))^(1/2): the inputs \
+                       overflow double precision, so u",
+                value: u,
+            });
+        }
+        Ok(u)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_amplitude_beyond_double_precision_is_an_error() {
+        let c = Cantilever {
+            length: 1e300,
+            ..Cantilever::seed()
+        };
+        let e = c.rms_tip_amplitude(300.0).unwrap_err();
+        assert!(matches!(e, TheoryError::NotFinite { .. }), "{e}");
+    }
 
     #[test]
     fn mode_sum_is_equipartition_on_the_static_compliance() {
