@@ -31,7 +31,7 @@ use crate::theory::{tabor::lambda_per_mu, Control, Model};
 use std::path::{Path, PathBuf};
 
 /// Bisshopp–Drucker tip deflection δ_v/L at PL²/K = 2, to five decimals (Mattiasson, Int. J.
-/// Numer. Meth. Eng. 17, 145, 1981; checked by shooting in tests/discrete_rod_cantilever.rs).
+/// Numer. Meth. Eng. 17, 145, 1981; checked by shooting in tests/integration/discrete_rod_cantilever.rs).
 const CANTILEVER_ALPHA_2: f64 = 0.49346;
 /// R/z₀ of the pull-off problems (the Fig 4.6 problem of docs/validation-continuum.md).
 const R_OVER_Z0: f64 = 1000.0;

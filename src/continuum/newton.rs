@@ -107,7 +107,7 @@ pub trait NewtonSystem {
 /// A residual that has stopped halving counts as round-off only below this fraction of the
 /// reference force: a round-off floor lies many decades below the forces in play, while a
 /// first residual inflated by a stiff machine spring (K Δ for K ≫ the contact stiffness) can
-/// put 1e-6 of it at a third of the load (tests/extremes.rs, stiff spring).
+/// put 1e-6 of it at a third of the load (tests/integration/extremes.rs, stiff spring).
 const STALL_CEILING: f64 = 1e-3;
 
 /// The convergence test on a residual history (the last entry is the current residual):

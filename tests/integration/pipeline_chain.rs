@@ -3,7 +3,7 @@
 //! discrete input recomputes), with the pipeline's stand-in runner and with the real engines
 //! on a small turf.
 
-mod common;
+use crate::common;
 
 use common::SMALL_TURF_SCENE;
 use std::collections::BTreeMap;

@@ -1,6 +1,6 @@
 //! Scene texts shared by integration tests (not a test target of its own).
 
-/// The 4-tube, 1 µm turf of tests/discrete_compression.rs (4 tubes of 8 segments in a 200 nm
+/// The 4-tube, 1 µm turf of tests/integration/discrete_compression.rs (4 tubes of 8 segments in a 200 nm
 /// periodic box), compressed to 30 % in 5 Newton steps and back, fitted by homogenize.
 pub const SMALL_TURF_SCENE: &str = r#"
 [scene]

@@ -61,10 +61,10 @@ fn hertz_small(depth: f64, increments: usize) -> IndentParams {
 // ---------------------------------------------------------------------------------------------
 // Tabor μ from 0.01 to 10
 
-/// DMT: at μ = 0.01 elasticity lowers |pull-off| below 2 by 0.04 % (tests/halfspace_limits.rs);
+/// DMT: at μ = 0.01 elasticity lowers |pull-off| below 2 by 0.04 % (tests/integration/halfspace_limits.rs);
 /// 0.5 % is the half-space's mesh error budget with a decade of margin.
 const DMT_TOL: f64 = 0.005;
-/// FE against the half-space, as issue 5 asks (tests/continuum_adhesion.rs).
+/// FE against the half-space, as issue 5 asks (tests/integration/continuum_adhesion.rs).
 const FE_PULL_OFF_TOL: f64 = 0.03;
 /// μ = 10 lies beyond Maugis–Dugdale λ ≈ 11.6, 0.3 % from JKR; the LJ law is 2–3 % more
 /// adhesive than Maugis–Dugdale at μ ≈ 2–3 (docs/validation-halfspace.md): 3 % below −1.5.
@@ -218,7 +218,7 @@ const CONTACT_STIFFNESS: f64 = 2.0 * 100.0 * 0.7 / (1.0 - 0.09);
 /// A spring 1e6 × the contact stiffness moves the indenter off the drive by P/K, which changes
 /// the load by k_c/K = 1e-6 relative; 1e-5 allows for Newton's 1e-9 and that shift.
 const STIFF_LIMIT_TOL: f64 = 1e-5;
-/// Hertz on the default mesh (tests/continuum_hertz.rs, measured +0.8 % at small strain).
+/// Hertz on the default mesh (tests/integration/continuum_hertz.rs, measured +0.8 % at small strain).
 const HERTZ_TOL: f64 = 0.02;
 /// Spring equilibrium P = K(Δ − δ): Newton's tolerance is 1e-9 of the forces in play.
 const SPRING_TOL: f64 = 1e-7;

@@ -31,7 +31,7 @@ const MIN_CREEP_NM: f64 = 0.1;
 /// dQ/dδ over a creep ≥ 0.1 nm: Newton's residual (~1e-6 nN) over ΔQ = χΔδ ≥ 5 nN is
 /// ≤ 2e-7 relative; 1e-4 is margin, far below any wrong machine term (k₂'s share is 0.5 %).
 const HOLD_SLOPE_TOL: f64 = 1e-4;
-/// The Hertz contract of `tests/continuum_hertz.rs` on the default mesh (measured +0.8 %).
+/// The Hertz contract of `tests/integration/continuum_hertz.rs` on the default mesh (measured +0.8 %).
 const HERTZ_TOL: f64 = 0.02;
 /// k₁ → 0, k₂ = ∞ against plain load control: the same equations up to round-off in χ = 0 and
 /// t = 1, and Newton's tolerance.

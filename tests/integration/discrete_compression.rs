@@ -2,7 +2,7 @@
 //! to 30 % strain and back, the platen force as the derivative of the equilibrium energy, the
 //! same curve with 1 and 2 threads, and the pipeline's discrete + homogenize stages.
 
-mod common;
+use crate::common;
 
 use common::SMALL_TURF_SCENE as SCENE;
 use std::path::Path;

@@ -144,7 +144,7 @@ fn bad_input_gives_a_clear_message() {
 
 #[test]
 fn halfspace_json_reports_pull_off_error_and_cost() {
-    // μ = 0.05 is near the DMT limit: −2 within the 1.5 % of tests/halfspace_limits.rs
+    // μ = 0.05 is near the DMT limit: −2 within the 1.5 % of tests/integration/halfspace_limits.rs
     let v = json(&["theory", "halfspace", "--mu", "0.05", "--json"]);
     let p = v["pull_off_normalized"].as_f64().unwrap();
     assert!((p + 2.0).abs() < 0.03, "{p}");

@@ -41,7 +41,7 @@ const SEGMENT: f64 = 10.0;
 const TOLERANCE: f64 = 1e-6;
 /// The rate dE*/dH of the equilibrium energy against γ_L over the steady lifts (2 to 3.4
 /// bending lengths). The line energy of the parallel pair is −γ_L to 1e-5
-/// (tests/discrete_vdw_two_tubes.rs); the rest of the budget: the arm is not yet vertical at
+/// (tests/integration/discrete_vdw_two_tubes.rs); the rest of the budget: the arm is not yet vertical at
 /// its end (F = γ_L / sin θ_end, 1 − sin θ_end ≈ (4 tan(π/8) e^{−H/ℓ_b})²/2 ≈ 4e-3 at
 /// H = 2 ℓ_b), the stretching energy grows with the tension as the lift builds up (~0.4 aJ over
 /// the range, 2e-3), and the discrete front is trapped between nodes (the lifting force

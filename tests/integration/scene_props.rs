@@ -9,11 +9,11 @@ use turf::scene::load_str;
 use turf::scene::overrides::{set, Step};
 
 const SCENES: [&str; 5] = [
-    include_str!("../scenes/jkr_sphere.toml"),
-    include_str!("../scenes/hertz.toml"),
-    include_str!("../scenes/hyperfoam_indent.toml"),
-    include_str!("../scenes/turf_compression.toml"),
-    include_str!("../scenes/turf_indent.toml"),
+    include_str!("../../scenes/jkr_sphere.toml"),
+    include_str!("../../scenes/hertz.toml"),
+    include_str!("../../scenes/hyperfoam_indent.toml"),
+    include_str!("../../scenes/turf_compression.toml"),
+    include_str!("../../scenes/turf_indent.toml"),
 ];
 
 /// Every key path (tables, arrays and leaves) of a document.
