@@ -152,15 +152,16 @@ pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
     let size = |l: u32| root / 2f64.powi(l as i32);
     // every root cell becomes at least two triangles: a block far wider than deep (or the
     // reverse) is refused before its root cells are listed
+    let too_large = || MeshError::TooLarge {
+        max: max_elements,
+        smallest: h0,
+        fine_radius,
+        fine_depth,
+        width,
+        depth,
+    };
     if 2.0 * nx as f64 * ny as f64 > max_elements as f64 {
-        return Err(MeshError::TooLarge {
-            max: max_elements,
-            smallest: h0,
-            fine_radius,
-            fine_depth,
-            width,
-            depth,
-        });
+        return Err(too_large());
     }
 
     // refine by the size criterion
@@ -178,14 +179,7 @@ pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
             leaves.insert((l, i, j));
             // every leaf becomes at least two triangles
             if 2 * leaves.len() > max_elements {
-                return Err(MeshError::TooLarge {
-                    max: max_elements,
-                    smallest: h0,
-                    fine_radius,
-                    fine_depth,
-                    width,
-                    depth,
-                });
+                return Err(too_large());
             }
         }
     }

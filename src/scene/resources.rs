@@ -193,6 +193,23 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
     let limit = ceiling.bytes;
     // a NaN estimate counts as over
     let over = |b: f64| b.is_nan() || b > limit;
+    // a stage's refusal: the key that drives its size, the estimate and how to lower it
+    let refuse = |c: &mut Checker,
+                  key: String,
+                  stage: &str,
+                  bytes: f64,
+                  detail: &str,
+                  advice: &str| {
+        c.bad(
+            key,
+            format!(
+                "the {stage} stage would need about {} for {detail}, beyond the memory ceiling {} ({}): {advice}",
+                bytes_text(bytes),
+                bytes_text(limit),
+                ceiling.source
+            ),
+        );
+    };
     let saved_steps = scene.compression.as_ref().map_or(1.0, |k| {
         (k.steps as f64) * if k.unload { 2.0 } else { 1.0 } + 1.0
     });
@@ -214,15 +231,10 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
             count_text(per_tube)
         );
         if over(bytes) {
-            c.bad(
-                "turf.box",
-                format!(
-                    "the discrete stage would need about {} for {detail}, beyond the memory ceiling {} ({}): use a smaller turf.box or turf.density, longer turf.tube.segment{lower_steps}",
-                    bytes_text(bytes),
-                    bytes_text(limit),
-                    ceiling.source
-                ),
+            let advice = format!(
+                "use a smaller turf.box or turf.density, longer turf.tube.segment{lower_steps}"
             );
+            refuse(c, "turf.box".into(), "discrete", bytes, &detail, &advice);
         }
         stages.push(StageMemory {
             stage: Stage::Discrete,
@@ -238,15 +250,9 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
             let i = (0..r.rod.len())
                 .max_by_key(|&i| r.rod[i].segments)
                 .unwrap_or(0);
-            c.bad(
-                format!("rods.rod[{i}].segments"),
-                format!(
-                    "the discrete stage would need about {} for {detail}, beyond the memory ceiling {} ({}): use fewer segments{lower_steps}",
-                    bytes_text(bytes),
-                    bytes_text(limit),
-                    ceiling.source
-                ),
-            );
+            let advice = format!("use fewer segments{lower_steps}");
+            let key = format!("rods.rod[{i}].segments");
+            refuse(c, key, "discrete", bytes, &detail, &advice);
         }
         stages.push(StageMemory {
             stage: Stage::Discrete,
@@ -266,14 +272,15 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
             }
         );
         if over(bytes) {
-            c.bad(
-                "halfspace.cells_per_zone",
-                format!(
-                    "the halfspace stage would need about {} for {detail}, beyond the memory ceiling {} ({}): lower halfspace.cells_per_zone (default 12) or set halfspace.refinement = false",
-                    bytes_text(bytes),
-                    bytes_text(limit),
-                    ceiling.source
-                ),
+            let advice =
+                "lower halfspace.cells_per_zone (default 12) or set halfspace.refinement = false";
+            refuse(
+                c,
+                "halfspace.cells_per_zone".into(),
+                "halfspace",
+                bytes,
+                &detail,
+                advice,
             );
         }
         stages.push(StageMemory {
