@@ -377,3 +377,82 @@ fn a_ramp_given_by_its_time_runs() {
     assert_eq!(v["complete"], true);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Every number in every JSON and CSV file under `dir`, with its file and place if one is not
+/// finite (JSON cannot hold NaN: serde_json writes it as null, so a null is reported too).
+fn non_finite_numbers(dir: &Path) -> Vec<String> {
+    fn walk_json(v: &serde_json::Value, at: String, out: &mut Vec<String>) {
+        match v {
+            serde_json::Value::Null => out.push(format!("{at}: null")),
+            serde_json::Value::Number(n) if !n.as_f64().is_some_and(f64::is_finite) => {
+                out.push(format!("{at}: {n}"))
+            }
+            serde_json::Value::Array(items) => {
+                for (i, x) in items.iter().enumerate() {
+                    walk_json(x, format!("{at}[{i}]"), out);
+                }
+            }
+            serde_json::Value::Object(map) => {
+                for (k, x) in map {
+                    walk_json(x, format!("{at}.{k}"), out);
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = entry.path();
+            let name = p.display().to_string();
+            match p.extension().and_then(|e| e.to_str()) {
+                _ if p.is_dir() => stack.push(p),
+                Some("json") => {
+                    let v: serde_json::Value =
+                        serde_json::from_str(&std::fs::read_to_string(&p).unwrap())
+                            .unwrap_or_else(|e| panic!("{name}: {e}"));
+                    walk_json(&v, name, &mut out);
+                }
+                Some("csv") => {
+                    let text = std::fs::read_to_string(&p).unwrap();
+                    for (line, row) in text.lines().enumerate().skip(1) {
+                        for cell in row.split(',') {
+                            if cell.trim().parse::<f64>().is_ok_and(|x| !x.is_finite()) {
+                                out.push(format!("{name}:{}: {cell}", line + 1));
+                            }
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    out
+}
+
+/// The example scenes that run in seconds (closed forms, the half-space, the FE, a card, the
+/// rods) write only finite numbers into every JSON and CSV file of their output folders.
+#[test]
+fn every_number_the_fast_example_scenes_write_is_finite() {
+    // the walker itself finds a NaN cell and a null
+    let probe = temp("finite-probe");
+    std::fs::create_dir_all(probe.join("sub")).unwrap();
+    std::fs::write(probe.join("sub/a.csv"), "x_nm,y_nN\n1,NaN\n2,3\n").unwrap();
+    std::fs::write(probe.join("b.json"), r#"{"v": [1.0, null]}"#).unwrap();
+    assert_eq!(non_finite_numbers(&probe).len(), 2);
+    std::fs::remove_dir_all(probe).ok();
+    for scene in ["jkr_sphere", "hertz", "seed_card", "rods_cantilever"] {
+        let dir = temp(&format!("finite-{scene}"));
+        let out = turf(&[
+            "run",
+            &format!("scenes/{scene}.toml"),
+            "--out",
+            dir.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{scene}: {}", text(&out.stderr));
+        let bad = non_finite_numbers(&dir);
+        assert!(bad.is_empty(), "{scene}: {bad:#?}");
+        std::fs::remove_dir_all(dir).ok();
+    }
+}
