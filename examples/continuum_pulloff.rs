@@ -3,7 +3,8 @@
 //! Env `EPR` (elements per contact radius), `ZONE` (overrides the smallest element, nm),
 //! `INC` (increments per segment), `C0` (damping coefficient, GPa·s/nm), `CSV` (write the rows to this folder).
 
-use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
+use turf::bench::presets::tabor_sphere;
+use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
 use turf::continuum::run_indent;
 use turf::halfspace::{pull_off, HalfspaceParams, Problem};

@@ -9,7 +9,8 @@
 //! converged row on stderr: segment, δ/z₀, P/(πγR), iterations, wall seconds). At finite kinematics
 //! the solid is `tabor_sphere`'s compressible neo-Hookean (hyperfoam α = 2, β = 0, μ = E*/2).
 
-use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
+use turf::bench::presets::tabor_sphere;
+use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
 use turf::continuum::events::{curve_distance, dissipation_split, spring_pull_off};
 use turf::continuum::indent::Method;

@@ -15,9 +15,10 @@
 //!   compression (hyperfoam, seed 5.3; finite strain, no adhesion): the loads at fixed
 //!   depths, the card's error and the speed-ups.
 
+use super::presets::tabor_sphere;
 use super::sweeps::{hertz_load, HERTZ_E_STAR};
 use super::{timed, Cost, Row};
-use crate::continuum::adhesion::{normalised_pull_off, tabor_sphere};
+use crate::continuum::adhesion::normalised_pull_off;
 use crate::continuum::element::Kinematics;
 use crate::continuum::{run_indent, FeError, IndentParams, IndentResult};
 use crate::discrete::rod::RodStiffness;

@@ -7,6 +7,7 @@
 //! No wall-clock time is asserted anywhere: the figures are measurements, reported.
 
 pub mod ladder;
+pub mod presets;
 pub mod sweeps;
 
 use crate::report::plot::{Plot, Series};

@@ -2,7 +2,8 @@
 //! machine spring, and the damping's share of the energy. Coarse but adequate meshes keep these
 //! fast; the full tables come from `cargo run --example continuum_pulloff`.
 
-use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
+use turf::bench::presets::tabor_sphere;
+use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
 use turf::continuum::machine::Machine;
 use turf::continuum::{run_indent, IndentParams, IndentResult, Segment};

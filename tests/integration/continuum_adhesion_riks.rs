@@ -4,7 +4,8 @@
 //! (coarse, μ ≤ 1) meshes of `tabor_sphere`; the μ = 2 figures come from
 //! `cargo run --release --example continuum_riks -- 2`.
 
-use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
+use turf::bench::presets::tabor_sphere;
+use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
 use turf::continuum::events::{curve_distance, spring_pull_off};
 use turf::continuum::indent::Method;

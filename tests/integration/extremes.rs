@@ -4,7 +4,8 @@
 //! `#[ignore]`d and run by `cargo test --release --test extremes -- --ignored` (numbers in
 //! docs/validation.md, "Extremes").
 
-use turf::continuum::adhesion::{normalised_pull_off, tabor_sphere};
+use turf::bench::presets::tabor_sphere;
+use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
 use turf::continuum::machine::Machine;
 use turf::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
