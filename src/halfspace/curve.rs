@@ -545,6 +545,7 @@ pub fn trace_curve<T: Traction>(
     problem: &Problem<T>,
     params: &HalfspaceParams,
 ) -> Result<Curve, HalfspaceError> {
+    problem.check_validated_range()?;
     let start = Instant::now();
     let mut cost = Cost::default();
     let window = |a: f64, near: f64| super::refinement::trace_grid(problem, params, a, near);

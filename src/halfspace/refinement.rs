@@ -212,6 +212,7 @@ pub fn pull_off<T: Traction>(
     problem: &Problem<T>,
     params: &HalfspaceParams,
 ) -> Result<PullOff, HalfspaceError> {
+    problem.check_validated_range()?;
     let start = Instant::now();
     let mu = problem.tabor();
     let mut cost = Cost::default();

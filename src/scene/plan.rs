@@ -238,7 +238,19 @@ pub(crate) fn plan(
         });
     }
     if scene.halfspace.is_some() {
-        if linear_sphere && scene.adhesion.is_some() {
+        let max_mu = crate::halfspace::MAX_VALIDATED_MU;
+        if let Some(mu) = d.tabor_mu.filter(|mu| *mu > max_mu * (1.0 + 1e-9)) {
+            c.bad(
+                "halfspace",
+                format!(
+                    "Tabor μ = {} (from indenter.radius, adhesion.gamma, adhesion.z0 and the \
+                     [material]) is beyond the half-space solver's validated range μ ≤ {max_mu} \
+                     (docs/validation-halfspace.md); there JKR, which the theory stage reports, \
+                     is within 0.6 % of its pull-off: remove [halfspace] or lower μ",
+                    sig(mu)
+                ),
+            );
+        } else if linear_sphere && scene.adhesion.is_some() {
             stages.push(PlannedStage {
                 stage: Stage::Halfspace,
                 why: "[halfspace]: LJ-adhesive S-curve of a linear half-space under the sphere"

@@ -48,3 +48,29 @@ fn large_tabor_approaches_jkr_from_below() {
         assert!(c3.pull_off.load < jo);
     }
 }
+
+/// Beyond μ = 10 the solver refuses at once with the reason (the μ = 20 failed after
+/// 35 s and μ = 100 ran on for minutes) instead of tracing.
+#[test]
+fn beyond_the_validated_range_the_solver_refuses_with_the_reason() {
+    use turf::halfspace::{pull_off, HalfspaceError, MAX_VALIDATED_MU};
+    let params = HalfspaceParams::default();
+    for mu in [20.0, 100.0] {
+        let p = Problem::scaled(mu, LjKind::Lj93).unwrap();
+        for err in [
+            trace_curve(&p, &params).unwrap_err(),
+            pull_off(&p, &params).unwrap_err(),
+        ] {
+            assert!(
+                matches!(err, HalfspaceError::BeyondValidatedRange { max, .. } if max == MAX_VALIDATED_MU),
+                "{err}"
+            );
+            assert!(err.to_string().contains("JKR"), "{err}");
+        }
+    }
+    // μ = 10 itself is inside the range (the check does not trace it here: that is the sweep)
+    assert!(Problem::scaled(10.0, LjKind::Lj104)
+        .unwrap()
+        .check_validated_range()
+        .is_ok());
+}

@@ -585,3 +585,13 @@ fn a_modulus_beyond_double_precision_is_refused_at_material_youngs() {
     let e = error(GOOD, &["material.youngs=1e300"]);
     assert_has(&e, &["material.youngs", "Tabor μ = 0", "double precision"]);
 }
+
+#[test]
+fn a_halfspace_beyond_its_validated_tabor_range_is_refused_at_check() {
+    // γ = 5 J/m² on this sphere: μ ≈ 21
+    let e = error(GOOD, &["adhesion.gamma=5 J/m^2"]);
+    assert_has(
+        &e,
+        &["halfspace", "Tabor μ", "validated range μ ≤ 10", "JKR"],
+    );
+}

@@ -313,3 +313,13 @@ fn thermal_amplitude_beyond_double_precision_is_an_error() {
     );
     assert!(!out.contains("null"), "{out}");
 }
+
+#[test]
+fn halfspace_beyond_its_validated_range_is_refused_with_the_reason() {
+    let (ok, _, err) = turf(&["theory", "halfspace", "--mu", "100", "--json"]);
+    assert!(!ok);
+    assert!(
+        err.contains("validated range μ ≤ 10") && err.contains("JKR"),
+        "{err}"
+    );
+}
