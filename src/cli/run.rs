@@ -49,6 +49,15 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         progress: !args.json && std::io::stderr().is_terminal(),
         resume: args.resume,
     };
+    if !opts.resume {
+        let dir = scene::output_dir(&loaded.base, opts.out.as_deref());
+        if let Some(note) = interrupted_run_note(&dir) {
+            eprintln!(
+                "note: {note}; `turf run {} --resume` continues it, this run starts over",
+                args.scene.display()
+            );
+        }
+    }
     let report = pipeline::run(&loaded, &opts)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report.summary)?);
@@ -84,6 +93,25 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             summary.display()
         )),
     }
+}
+
+/// Whether `dir` holds the checkpoint of a run that did not finish (its summary missing or
+/// `complete = false`): a plain re-run starts over, and the user should know `--resume` exists.
+fn interrupted_run_note(dir: &std::path::Path) -> Option<String> {
+    if !dir.join(pipeline::CHECKPOINT).is_file() {
+        return None;
+    }
+    let complete = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| v["complete"].as_bool());
+    (complete != Some(true)).then(|| {
+        format!(
+            "{} holds the checkpoint of an interrupted run ({})",
+            dir.display(),
+            pipeline::CHECKPOINT
+        )
+    })
 }
 
 /// `turf check`.

@@ -42,7 +42,7 @@ use std::path::PathBuf;
 const DEFAULT_SEGMENTS_PER_TUBE: f64 = 20.0;
 
 /// The drive's checkpoint in the output folder, rewritten after every step (`--resume`).
-pub(super) const CHECKPOINT: &str = "discrete_checkpoint.json";
+pub const CHECKPOINT: &str = "discrete_checkpoint.json";
 
 /// The relaxation as the summary reports it: the generated and relaxed states and the cost
 /// (from the solve, or from the checkpoint of a resumed run).

@@ -27,7 +27,7 @@ pub mod cache;
 mod continuum_stage;
 pub use continuum_stage::{mesh_preview, MeshPreview};
 mod discrete_stage;
-pub use discrete_stage::LOADING_CSV;
+pub use discrete_stage::{CHECKPOINT, LOADING_CSV};
 mod halfspace_stage;
 mod homogenize_stage;
 mod theory_stage;

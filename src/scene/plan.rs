@@ -164,11 +164,15 @@ pub struct Derived {
     pub tube_count: Option<f64>,
 }
 
-/// A number to six significant figures, for messages.
+/// A number to six significant figures, for messages; exponent form beyond 1e-4 … 1e7 in magnitude.
 pub fn sig(x: f64) -> String {
-    format!("{:.5e}", x)
-        .parse::<f64>()
-        .map_or_else(|_| x.to_string(), |v| v.to_string())
+    let v = format!("{:.5e}", x).parse::<f64>().unwrap_or(x);
+    // very large or small magnitudes in exponent form: 1e-300 is "1e-300", not 300 digits
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
 }
 
 /// Mesh sizes with every default filled, nm.
@@ -880,6 +884,17 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sig_keeps_six_figures_and_never_prints_hundreds_of_digits() {
+        assert_eq!(sig(0.46), "0.46");
+        assert_eq!(sig(1.0 / 3.0), "0.333333");
+        assert_eq!(sig(84852.81374), "84852.8");
+        assert_eq!(sig(1e-300), "1e-300");
+        assert_eq!(sig(2.5e15), "2.5e15");
+        assert_eq!(sig(0.0), "0");
+        assert!(sig(-1.234567e-9).len() < 12);
+    }
 
     #[test]
     fn blunt_berkovich_radius_is_continuous_at_the_tip_depth() {

@@ -456,3 +456,29 @@ fn every_number_the_fast_example_scenes_write_is_finite() {
         std::fs::remove_dir_all(dir).ok();
     }
 }
+
+/// A plain re-run into a folder holding an interrupted run's checkpoint says that `--resume`
+/// exists (and starts over); after a complete run it says nothing.
+#[test]
+fn a_rerun_over_an_interrupted_checkpoint_points_to_resume() {
+    for (complete, noted) in [(false, true), (true, false)] {
+        let dir = temp(&format!("interrupted-{complete}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join(turf::pipeline::CHECKPOINT), "{}").unwrap();
+        std::fs::write(
+            dir.join("summary.json"),
+            format!(r#"{{"complete": {complete}}}"#),
+        )
+        .unwrap();
+        let out = turf(&[
+            "run",
+            "scenes/jkr_sphere.toml",
+            "--out",
+            dir.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let err = text(&out.stderr);
+        assert_eq!(err.contains("--resume` continues it"), noted, "{err}");
+        std::fs::remove_dir_all(dir).ok();
+    }
+}

@@ -238,7 +238,7 @@ fn adhesion_pulloff_sweep_covers_tabor_mu_from_dmt_to_one() {
 #[test]
 fn a_sweep_resolves_every_value() {
     let text = std::fs::read_to_string(scenes_dir().join("jkr_sphere.toml")).unwrap()
-        + "\n[sweep]\nkey = \"adhesion.gamma\"\nvalues = [0.01, \"0.1 J/m^2\", 1.0]\n";
+        + "\n[sweep]\nkey = \"adhesion.gamma\"\nvalues = [0.001, \"0.01 J/m^2\", 0.1]\n";
     let l = load_str(&text, &scenes_dir().join("sweep.toml"), &[]).unwrap();
     let mus: Vec<f64> = l
         .sweep
@@ -249,6 +249,22 @@ fn a_sweep_resolves_every_value() {
     // μ ∝ γ^(2/3)
     assert!((mus[1] / mus[0] / 10f64.powf(2.0 / 3.0) - 1.0).abs() < 1e-9);
     assert!(mus[2] > mus[1]);
+    // 1 J/m² puts this sphere at μ ≈ 13, beyond the half-space solver's validated range: the
+    // sweep is refused at that point, naming [halfspace]
+    let beyond = load_str(
+        &text.replace(
+            "values = [0.001, \"0.01 J/m^2\", 0.1]",
+            "values = [0.1, 1.0]",
+        ),
+        &scenes_dir().join("sweep.toml"),
+        &[],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        beyond.contains("halfspace") && beyond.contains("validated range"),
+        "{beyond}"
+    );
 }
 
 #[test]
