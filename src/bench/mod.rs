@@ -322,9 +322,9 @@ pub fn run(opts: &BenchOptions, on_task: &mut dyn FnMut(&str)) -> BenchReport {
 /// (error against wall time, log–log) into `dir`.
 pub fn write(report: &BenchReport, dir: &Path) -> Result<(), ReportError> {
     let plots = dir.join("plots");
-    std::fs::create_dir_all(&plots).map_err(|source| ReportError::Io {
+    std::fs::create_dir_all(&plots).map_err(|cause| ReportError::Io {
         path: plots.display().to_string(),
-        source,
+        cause,
     })?;
     write_atomic(&dir.join("bench.md"), report.to_markdown().as_bytes())?;
     write_json(&dir.join("bench.json"), report)?;

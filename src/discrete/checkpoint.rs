@@ -49,12 +49,12 @@ pub struct SavedRelaxation {
 #[derive(Debug, thiserror::Error)]
 pub enum CheckpointError {
     /// reading or writing the file
-    #[error("checkpoint {path}: {source}")]
+    #[error("checkpoint {path}: {cause}")]
     Io {
         /// the file
         path: String,
-        /// cause
-        source: std::io::Error,
+        /// the cause (in the message, so not chained again as the error's source)
+        cause: std::io::Error,
     },
     /// not a checkpoint of this format
     #[error("checkpoint {path} cannot be read: {reason}")]
@@ -101,9 +101,9 @@ impl Checkpoint {
     /// Write to `path` atomically (a temporary file renamed over the old one), so that an
     /// interruption during the write leaves the previous checkpoint intact.
     pub fn save(&self, path: &Path) -> Result<(), CheckpointError> {
-        let io = |source| CheckpointError::Io {
+        let io = |cause| CheckpointError::Io {
             path: path.display().to_string(),
-            source,
+            cause,
         };
         let text = serde_json::to_string(self).map_err(|e| CheckpointError::Invalid {
             path: path.display().to_string(),
@@ -128,7 +128,7 @@ impl Checkpoint {
         let text = match std::fs::read_to_string(path) {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(source) => return Err(CheckpointError::Io { path: p, source }),
+            Err(cause) => return Err(CheckpointError::Io { path: p, cause }),
         };
         let c: Checkpoint = serde_json::from_str(&text).map_err(|e| CheckpointError::Invalid {
             path: p.clone(),

@@ -181,7 +181,7 @@ pub fn store(root: &Path, dir: &Path, key: &Key, record: &StageRecord) -> Result
     ));
     let io = |path: &Path| {
         let path = path.display().to_string();
-        move |source| ReportError::Io { path, source }
+        move |cause| ReportError::Io { path, cause }
     };
     if tmp.exists() {
         std::fs::remove_dir_all(&tmp).map_err(io(&tmp))?;

@@ -17,12 +17,12 @@ use std::path::Path;
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
     /// the file system refused
-    #[error("cannot write {path}: {source}")]
+    #[error("cannot write {path}: {cause}")]
     Io {
         /// the file
         path: String,
-        /// the cause
-        source: std::io::Error,
+        /// the cause (in the message, so not chained again as the error's source)
+        cause: std::io::Error,
     },
     /// a NaN or infinite value was about to be written
     #[error("refusing to write {path}: non-finite value in {what}")]
@@ -52,9 +52,9 @@ pub enum ReportError {
 
 /// Write `bytes` to `path` atomically, creating parent folders.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
-    let io = |source| ReportError::Io {
+    let io = |cause| ReportError::Io {
         path: path.display().to_string(),
-        source,
+        cause,
     };
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(io)?;

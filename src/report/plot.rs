@@ -132,9 +132,9 @@ impl Plot {
             let root = BitMapBackend::new(&tmp, (1000, 700)).into_drawing_area();
             self.draw(&root, &png_path)?;
         }
-        std::fs::rename(&tmp, &png_path).map_err(|source| ReportError::Io {
+        std::fs::rename(&tmp, &png_path).map_err(|cause| ReportError::Io {
             path: png_path.display().to_string(),
-            source,
+            cause,
         })
     }
 

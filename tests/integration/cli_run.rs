@@ -482,3 +482,21 @@ fn a_rerun_over_an_interrupted_checkpoint_points_to_resume() {
         std::fs::remove_dir_all(dir).ok();
     }
 }
+
+/// A file-system refusal names the file and the OS reason once (not again as a chained cause).
+#[test]
+fn an_os_error_is_printed_once() {
+    let blocker = temp("os-error-blocker");
+    std::fs::write(&blocker, "a file, not a folder").unwrap();
+    let out_dir = blocker.join("out");
+    let out = turf(&[
+        "run",
+        "scenes/jkr_sphere.toml",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+    std::fs::remove_file(blocker).ok();
+}
