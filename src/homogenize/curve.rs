@@ -262,6 +262,12 @@ impl StressStrainCurve {
             .iter()
             .cloned()
             .fold(f64::NEG_INFINITY, f64::max);
+        if peak == 0.0 && self.stress.iter().all(|&s| s == 0.0) {
+            return Err(err(
+                src,
+                "every stress is zero: the curve carries no load to fit".into(),
+            ));
+        }
         if let Some(i) = self
             .stress
             .iter()
@@ -402,6 +408,10 @@ mod tests {
         refused(
             "strain,stress_MPa\n0,0\n0.01,6\n0.02,11\n0.05,20\n0.1,30\n1.2,40\n",
             "[0, 1)",
+        );
+        refused(
+            "strain,stress_MPa\n0,0\n0.01,0\n0.02,0\n0.05,0\n0.1,0\n0.2,0\n",
+            "every stress is zero",
         );
     }
 
