@@ -89,26 +89,15 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
             });
         }
         ev.cost.iterations += 1;
-        // assemble the lower triangle over free coordinates, then a diagonal for the shift
         trip.clear();
         ev.model.hessian(x, &mut trip);
         ev.cost.hessian_evaluations += 1;
-        let mut positions = Vec::with_capacity(trip.len() / 2 + free.len());
-        let mut values = Vec::with_capacity(positions.capacity());
-        let mut diag_max = 0.0_f64;
-        for &(r, c, v) in &trip {
-            let (ri, ci) = (index[r], index[c]);
-            if ri != usize::MAX && ci != usize::MAX && ri >= ci {
-                positions.push((ri, ci));
-                values.push(v);
-                if ri == ci {
-                    diag_max = diag_max.max(v.abs());
-                }
-            }
-        }
-        positions.extend((0..free.len()).map(|k| (k, k)));
-        let unshifted = values.len();
-        values.resize(positions.len(), 0.0);
+        let FreeHessian {
+            positions,
+            mut values,
+            diag_max,
+            unshifted,
+        } = free_hessian(&trip, &index, free.len());
         let sys = match &mut system {
             Some((p, s)) if *p == positions => s,
             _ => {
@@ -187,6 +176,71 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
     })
 }
 
+/// The lower triangle of a Hessian over the free coordinates, followed by a diagonal the
+/// Newton loop fills with its shift (zero for an unshifted factorisation).
+struct FreeHessian {
+    /// (row, column) in free numbering, row ≥ column
+    positions: Vec<(usize, usize)>,
+    /// the entries, then the shift diagonal
+    values: Vec<f64>,
+    /// largest |diagonal entry| of the Hessian itself
+    diag_max: f64,
+    /// entries before the shift diagonal
+    unshifted: usize,
+}
+
+/// Gather the triplets `trip` (full numbering) into a [`FreeHessian`]; `index` maps a
+/// coordinate to its free number (usize::MAX for a fixed one).
+fn free_hessian(trip: &[(usize, usize, f64)], index: &[usize], free: usize) -> FreeHessian {
+    let mut positions = Vec::with_capacity(trip.len() / 2 + free);
+    let mut values = Vec::with_capacity(positions.capacity());
+    let mut diag_max = 0.0_f64;
+    for &(r, c, v) in trip {
+        let (ri, ci) = (index[r], index[c]);
+        if ri != usize::MAX && ci != usize::MAX && ri >= ci {
+            positions.push((ri, ci));
+            values.push(v);
+            if ri == ci {
+                diag_max = diag_max.max(v.abs());
+            }
+        }
+    }
+    positions.extend((0..free).map(|k| (k, k)));
+    let unshifted = values.len();
+    values.resize(positions.len(), 0.0);
+    FreeHessian {
+        positions,
+        values,
+        diag_max,
+        unshifted,
+    }
+}
+
+/// Whether `x` is a strict local minimum of `model` over the free coordinates: its Hessian
+/// there admits an unshifted Cholesky factorisation. A converged Newton solve can sit on a
+/// saddle (a straight rod loaded beyond its Euler load is in equilibrium, but unstable): this
+/// tells the two apart.
+pub fn is_local_minimum<E: EnergyTerm + ?Sized>(
+    model: &E,
+    fixed: &FixedDofs,
+    x: &[f64],
+) -> Result<bool, SolveError> {
+    let free = fixed.free_dofs();
+    let mut index = vec![usize::MAX; x.len()];
+    for (k, &d) in free.iter().enumerate() {
+        index[d] = k;
+    }
+    let mut trip = Vec::new();
+    model.hessian(x, &mut trip);
+    let h = free_hessian(&trip, &index, free.len());
+    let mut sys = SparseSystem::new(free.len(), &h.positions)?;
+    match sys.solve_spd(&h.values, &vec![1.0; free.len()]) {
+        Ok(_) => Ok(true),
+        Err(SparseError::NotPositiveDefinite) => Ok(false),
+        Err(e) => Err(e.into()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -225,6 +279,16 @@ mod tests {
         assert!((x[0] - (17.0_f64 / 16.0).sqrt()).abs() < 1e-9);
         assert!((x[1] - x[0] / 4.0).abs() < 1e-9);
         assert_eq!(x[2], 0.0);
+    }
+
+    #[test]
+    fn a_saddle_is_told_from_a_minimum() {
+        let mut fixed = FixedDofs::free(1);
+        fixed.fix(2);
+        // the origin is an equilibrium (zero gradient) with an indefinite Hessian
+        assert!(!is_local_minimum(&Well, &fixed, &[0.0, 0.0, 0.0]).unwrap());
+        let xm = (17.0_f64 / 16.0).sqrt();
+        assert!(is_local_minimum(&Well, &fixed, &[xm, xm / 4.0, 0.0]).unwrap());
     }
 
     #[test]

@@ -23,8 +23,7 @@ use crate::discrete::model::{relax, State, StaticSolver, TurfSystem};
 use crate::discrete::platen::{Shape, DEFAULT_WALL_STIFFNESS};
 use crate::discrete::rod::RodStiffness;
 use crate::discrete::solve_fire::FireParams;
-use crate::discrete::solve_newton::minimize_newton;
-use crate::discrete::solve_newton::NewtonParams;
+use crate::discrete::solve_newton::{is_local_minimum, minimize_newton, NewtonParams};
 use crate::discrete::turf::{generate_turf, TurfParams};
 use crate::discrete::vdw::VdwParams;
 use crate::discrete::vdw_term::TubeLayout;
@@ -373,7 +372,21 @@ fn run_rods(
         &NewtonParams::default(),
     )
     .map_err(|e| failed(format!("equilibrium of the rods: {e}")))?;
+    // an equilibrium need not be stable: a straight rod beyond its Euler load is one
+    let stable = is_local_minimum(&rods.model, &rods.fixed, &x)
+        .map_err(|e| failed(format!("stability of the rods' equilibrium: {e}")))?;
+    if let (false, Some(bar)) = (stable, ctx.progress) {
+        bar.println(
+            "discrete: warning: the rods' equilibrium is unstable (its Hessian is indefinite: a \
+             saddle, e.g. a straight rod beyond its Euler load); give the rods an imperfection \
+             (a slightly bent `points` list) to find the buckled shape",
+        );
+    }
     let mut values = BTreeMap::from([
+        (
+            "stable_equilibrium".to_string(),
+            if stable { 1.0 } else { 0.0 },
+        ),
         ("energy_aJ".to_string(), info.energy),
         ("residual_nN".to_string(), info.residual),
         ("newton_iterations".to_string(), info.cost.iterations as f64),
