@@ -200,16 +200,43 @@ fn secant_start(sys: &mut TurfSystem, x: &mut [f64], x_before: &[f64], r: f64) {
     }
 }
 
-/// Predictor: free nodes inside the platen (flat or sphere) are moved straight down to just
-/// touch it.
+/// Predictor: every tube the platen (flat or sphere) has overtaken is shortened affinely along
+/// z about its clamped base — the heights of its free nodes above the base scaled by the one
+/// factor that brings its most overtaken node just under the platen — and any node still inside
+/// (a tube folded above its top) is then moved straight down. A tube of height L shortened by δ
+/// this way stores ½(EA/L)δ², where moving its top node alone would fold its top segment (length
+/// l) and store ½(EA/l)δ²: L/l times more, a start Newton needs many iterations to leave.
 fn push_below(sys: &TurfSystem, x: &mut [f64]) {
     let Some(platen) = &sys.model.platen else {
         return;
     };
-    for &(n, r) in &sys.wall_nodes {
-        if let Some(top) = platen.ceiling(x[3 * n], x[3 * n + 1], r) {
+    let wall = &sys.wall_nodes;
+    for rod in sys.model.rods.rods() {
+        let (first, end) = (rod.first_node(), rod.first_node() + rod.nodes());
+        let free =
+            &wall[wall.partition_point(|w| w.0 < first)..wall.partition_point(|w| w.0 < end)];
+        // the pivot: the highest clamped node of the tube, else the substrate
+        let base = (first..end)
+            .filter(|&n| sys.fixed.is_fixed(3 * n + 2))
+            .map(|n| x[3 * n + 2])
+            .fold(0.0, f64::max);
+        let scale = free
+            .iter()
+            .filter_map(|&(n, r)| {
+                let z = x[3 * n + 2];
+                let top = platen.ceiling(x[3 * n], x[3 * n + 1], r)?;
+                (z > top && z > base && top > base).then(|| (top - base) / (z - base))
+            })
+            .fold(1.0, f64::min);
+        for &(n, r) in free {
             let z = &mut x[3 * n + 2];
-            *z = z.min(top);
+            if scale < 1.0 && *z > base {
+                *z = base + (*z - base) * scale;
+            }
+            if let Some(top) = platen.ceiling(x[3 * n], x[3 * n + 1], r) {
+                let z = &mut x[3 * n + 2];
+                *z = z.min(top);
+            }
         }
     }
 }

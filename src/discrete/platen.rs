@@ -175,24 +175,36 @@ impl EnergyTerm for Wall {
         e
     }
 
+    /// Every node's entries are listed, zero where it does not touch, so that the list stays
+    /// the same while nodes come into and out of contact (the Newton solver then keeps its
+    /// assembly map): the plane's one entry ∂²E/∂z², the sphere's 3 × 3 block.
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
+        let block: &[(usize, usize)] = match self.shape {
+            Shape::Plane => &[(2, 2)],
+            Shape::Sphere { .. } => &[
+                (0, 0),
+                (0, 1),
+                (0, 2),
+                (1, 0),
+                (1, 1),
+                (1, 2),
+                (2, 0),
+                (2, 1),
+                (2, 2),
+            ],
+        };
         for &(i, r) in &self.nodes {
             let p = self.penetration(x, i, r);
-            let d = p.depth;
-            if d <= 0.0 {
-                continue;
-            }
+            let d = p.depth.max(0.0);
             let mut h = 2.0 * self.stiffness * d * p.grad * p.grad.transpose();
             if let Some(hd) = p.hess {
                 h += self.stiffness * d * d * hd;
             }
-            for a in 0..3 {
-                for b in 0..3 {
-                    if h[(a, b)] != 0.0 {
-                        out.push((3 * i + a, 3 * i + b, h[(a, b)]));
-                    }
-                }
-            }
+            out.extend(
+                block
+                    .iter()
+                    .map(|&(a, b)| (3 * i + a, 3 * i + b, h[(a, b)])),
+            );
         }
     }
 }

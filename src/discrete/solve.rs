@@ -96,12 +96,12 @@ pub enum SolveError {
         cost: Cost,
     },
     /// the line search found no acceptable step
-    #[error("line search failed at iteration {iteration} (residual {residual:.3e} nN)")]
+    #[error("line search failed at iteration {} (residual {residual:.3e} nN)", cost.iterations)]
     LineSearch {
-        /// where
-        iteration: usize,
         /// residual there (nN)
         residual: f64,
+        /// spent
+        cost: Cost,
     },
     /// no shift made the Hessian positive definite, or the sparse solve failed
     #[error("sparse solve failed: {0}")]

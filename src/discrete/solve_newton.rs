@@ -1,13 +1,21 @@
 //! Newton minimisation on the sparse Hessian with a shift and an Armijo line search.
 //!
-//! Each iteration: assemble H (free coordinates only), factor H + μI by sparse Cholesky with
-//! μ = 0 first; if the factorisation fails (H indefinite, e.g. past a buckling load) μ starts
-//! at max(`shift_start` · max|H_kk|, μ_prev/`shift_growth`) and grows by `shift_growth` until
-//! it succeeds (Nocedal & Wright, Numerical Optimization, Alg. 3.3). The step p solves
-//! (H + μI) p = −g, a descent direction; the step length α halves from 1 until
-//! E(x + αp) ≤ E(x) + c₁ α gᵀp (Armijo), or — once energy differences sink into round-off — until
-//! the residual decreases. The symbolic factorisation is reused while the Hessian's pattern
-//! stays the same.
+//! Each iteration: assemble H (free coordinates only) and factor H + μI by sparse Cholesky. The
+//! first shift tried is the last iteration's divided by `shift_growth` (μ = 0 once that falls
+//! below `shift_start` · max|H_kk|, and after an unshifted iteration); while the factorisation
+//! fails (H indefinite, e.g. past a buckling load) μ grows by `shift_growth`, from the last
+//! nonzero shift divided by `shift_growth` when it was 0 (Nocedal & Wright, Numerical
+//! Optimization, Alg. 3.3, with the shift remembered across iterations: a descent through an
+//! indefinite region does not pay a failed unshifted factorisation, nor climb from 1e-10 · max|H_kk|,
+//! at every iteration). The step p solves (H + μI) p = −g, a descent direction; the step length α
+//! halves from 1 until E(x + αp) ≤ E(x) + c₁ α gᵀp (Armijo), or — once energy differences sink
+//! into round-off — until the residual decreases. A shifted step accepted at α = 1 is doubled
+//! while the energy keeps falling (up to [`MAX_EXPANSION`] times): the shift holds the step along
+//! soft directions to about |g|/μ, often far short of where the energy stops falling.
+//!
+//! The Hessian's entries reach the sparse system through [`FreeHessian`], which keeps the map
+//! from the model's entries to the system's values while the model lists the same entries, and
+//! the symbolic factorisation is kept while the compressed pattern stays the same.
 
 use super::constraints::FixedDofs;
 use super::energy::EnergyTerm;
@@ -50,6 +58,9 @@ impl Default for NewtonParams {
     }
 }
 
+/// Largest multiple of the Newton step the expansion past an instability tries.
+const MAX_EXPANSION: f64 = 64.0;
+
 /// Relative size of energy differences that count as round-off (double precision summing a few
 /// thousand terms).
 const ENERGY_NOISE: f64 = 1e-12;
@@ -74,8 +85,9 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
     let mut residual = fixed.residual(&grad);
     let tol = tolerance(params.tol_abs, params.tol_rel, residual);
     let mut history = vec![residual];
-    let mut system: Option<(Vec<(usize, usize)>, SparseSystem)> = None;
+    let mut hessian = FreeHessian::new(&index, free.len());
     let mut shift_prev = 0.0;
+    let mut shift_memory = 0.0;
     let mut trip = Vec::new();
     let mut trial = x.to_vec();
     let mut grad_trial = vec![0.0; n];
@@ -92,31 +104,24 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
         trip.clear();
         ev.model.hessian(x, &mut trip);
         ev.cost.hessian_evaluations += 1;
-        let FreeHessian {
-            positions,
-            mut values,
-            diag_max,
-            unshifted,
-        } = free_hessian(&trip, &index, free.len());
-        let sys = match &mut system {
-            Some((p, s)) if *p == positions => s,
-            _ => {
-                let s = SparseSystem::new(free.len(), &positions)?;
-                &mut system.insert((positions, s)).1
-            }
-        };
+        hessian.load(&trip)?;
+        let diag_max = hessian.diag_max;
         let rhs: Vec<f64> = free.iter().map(|&d| -grad[d]).collect();
-        let mut shift = 0.0;
+        let floor = params.shift_start * diag_max;
+        let mut shift = if shift_prev / params.shift_growth >= floor {
+            shift_prev / params.shift_growth
+        } else {
+            0.0
+        };
         let mut attempts = 0;
         let step = loop {
-            values[unshifted..].iter_mut().for_each(|v| *v = shift);
             ev.cost.factorizations += 1;
-            match sys.solve_spd(&values, &rhs) {
+            match hessian.solve_shifted(shift, &rhs) {
                 Ok(p) => break p,
                 Err(SparseError::NotPositiveDefinite) if attempts < params.max_shifts => {
                     attempts += 1;
                     shift = if shift == 0.0 {
-                        (params.shift_start * diag_max).max(shift_prev / params.shift_growth)
+                        floor.max(shift_memory / params.shift_growth)
                     } else {
                         shift * params.shift_growth
                     };
@@ -125,6 +130,9 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
             }
         };
         shift_prev = shift;
+        if shift > 0.0 {
+            shift_memory = shift;
+        }
 
         // backtracking line search
         let slope: f64 = free.iter().zip(&step).map(|(&d, p)| grad[d] * p).sum();
@@ -159,10 +167,32 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
             }
             alpha *= 0.5;
         }
+        // Past an instability the shift limits the step along the soft directions to about
+        // |g|/μ, and the energy keeps falling well beyond it: double the step while it does.
+        if accepted && alpha == 1.0 && shift > 0.0 {
+            let mut expand = 2.0;
+            while expand <= MAX_EXPANSION {
+                for (&d, p) in free.iter().zip(&step) {
+                    trial[d] = x[d] + (expand - alpha) * p;
+                }
+                let Ok(e_trial) = ev.eval(&trial, &mut grad_trial) else {
+                    break;
+                };
+                if e_trial >= energy {
+                    break;
+                }
+                x.copy_from_slice(&trial);
+                std::mem::swap(&mut grad, &mut grad_trial);
+                energy = e_trial;
+                residual = fixed.residual(&grad);
+                alpha = expand;
+                expand *= 2.0;
+            }
+        }
         if !accepted {
             return Err(SolveError::LineSearch {
-                iteration: ev.cost.iterations,
                 residual,
+                cost: ev.finish(),
             });
         }
         history.push(residual);
@@ -176,43 +206,102 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
     })
 }
 
-/// The lower triangle of a Hessian over the free coordinates, followed by a diagonal the
-/// Newton loop fills with its shift (zero for an unshifted factorisation).
-struct FreeHessian {
-    /// (row, column) in free numbering, row ≥ column
-    positions: Vec<(usize, usize)>,
-    /// the entries, then the shift diagonal
+/// The Hessian over the free coordinates as a sparse system: its lower triangle, then a
+/// diagonal that carries the Newton loop's shift. The map from the model's entries (full
+/// numbering, both triangles) to the system's values is kept while the model lists the same
+/// entries in the same order, so an iteration only copies values; when the list changes the
+/// map is rebuilt, and the sparse system keeps its symbolic factorisation if the compressed
+/// pattern is unchanged.
+struct FreeHessian<'a> {
+    /// free number of each coordinate (usize::MAX: fixed)
+    index: &'a [usize],
+    /// number of free coordinates
+    free: usize,
+    /// (row, column) of the model's entries the map was built for
+    entries: Vec<(usize, usize)>,
+    /// for each entry, its slot in `values` (usize::MAX: dropped — fixed or upper triangle)
+    slot: Vec<usize>,
+    /// the lower-triangle values, then the shift diagonal
     values: Vec<f64>,
-    /// largest |diagonal entry| of the Hessian itself
-    diag_max: f64,
     /// entries before the shift diagonal
     unshifted: usize,
+    /// largest |diagonal entry| of the Hessian itself
+    diag_max: f64,
+    system: Option<SparseSystem>,
 }
 
-/// Gather the triplets `trip` (full numbering) into a [`FreeHessian`]; `index` maps a
-/// coordinate to its free number (usize::MAX for a fixed one).
-fn free_hessian(trip: &[(usize, usize, f64)], index: &[usize], free: usize) -> FreeHessian {
-    let mut positions = Vec::with_capacity(trip.len() / 2 + free);
-    let mut values = Vec::with_capacity(positions.capacity());
-    let mut diag_max = 0.0_f64;
-    for &(r, c, v) in trip {
-        let (ri, ci) = (index[r], index[c]);
-        if ri != usize::MAX && ci != usize::MAX && ri >= ci {
-            positions.push((ri, ci));
-            values.push(v);
-            if ri == ci {
-                diag_max = diag_max.max(v.abs());
+impl<'a> FreeHessian<'a> {
+    fn new(index: &'a [usize], free: usize) -> Self {
+        FreeHessian {
+            index,
+            free,
+            entries: Vec::new(),
+            slot: Vec::new(),
+            values: Vec::new(),
+            unshifted: 0,
+            diag_max: 0.0,
+            system: None,
+        }
+    }
+
+    /// Take the model's entries `trip`.
+    fn load(&mut self, trip: &[(usize, usize, f64)]) -> Result<(), SparseError> {
+        let same = self.system.is_some()
+            && trip.len() == self.entries.len()
+            && trip
+                .iter()
+                .zip(&self.entries)
+                .all(|(t, e)| t.0 == e.0 && t.1 == e.1);
+        if !same {
+            self.remap(trip)?;
+        }
+        let mut diag_max = 0.0_f64;
+        for (t, &k) in trip.iter().zip(&self.slot) {
+            if k != usize::MAX {
+                self.values[k] = t.2;
+                if t.0 == t.1 {
+                    diag_max = diag_max.max(t.2.abs());
+                }
+            }
+        }
+        self.diag_max = diag_max;
+        Ok(())
+    }
+
+    /// Rebuild the map and the system's positions for the entries of `trip`.
+    fn remap(&mut self, trip: &[(usize, usize, f64)]) -> Result<(), SparseError> {
+        self.entries.clear();
+        self.entries.extend(trip.iter().map(|t| (t.0, t.1)));
+        self.slot.clear();
+        let mut positions = Vec::with_capacity(trip.len() / 2 + self.free);
+        for &(r, c, _) in trip {
+            let (ri, ci) = (self.index[r], self.index[c]);
+            if ri != usize::MAX && ci != usize::MAX && ri >= ci {
+                self.slot.push(positions.len());
+                positions.push((ri, ci));
+            } else {
+                self.slot.push(usize::MAX);
+            }
+        }
+        self.unshifted = positions.len();
+        positions.extend((0..self.free).map(|k| (k, k)));
+        self.values = vec![0.0; positions.len()];
+        match &mut self.system {
+            Some(s) => s.set_positions(&positions),
+            None => {
+                self.system = Some(SparseSystem::new(self.free, &positions)?);
+                Ok(())
             }
         }
     }
-    positions.extend((0..free).map(|k| (k, k)));
-    let unshifted = values.len();
-    values.resize(positions.len(), 0.0);
-    FreeHessian {
-        positions,
-        values,
-        diag_max,
-        unshifted,
+
+    /// Solve (H + shift·I) p = rhs by Cholesky.
+    fn solve_shifted(&mut self, shift: f64, rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
+        self.values[self.unshifted..]
+            .iter_mut()
+            .for_each(|v| *v = shift);
+        let system = self.system.as_mut().ok_or(SparseError::NoFactor)?;
+        system.solve_spd(&self.values, rhs)
     }
 }
 
@@ -232,9 +321,9 @@ pub fn is_local_minimum<E: EnergyTerm + ?Sized>(
     }
     let mut trip = Vec::new();
     model.hessian(x, &mut trip);
-    let h = free_hessian(&trip, &index, free.len());
-    let mut sys = SparseSystem::new(free.len(), &h.positions)?;
-    match sys.solve_spd(&h.values, &vec![1.0; free.len()]) {
+    let mut h = FreeHessian::new(&index, free.len());
+    h.load(&trip)?;
+    match h.solve_shifted(0.0, &vec![1.0; free.len()]) {
         Ok(_) => Ok(true),
         Err(SparseError::NotPositiveDefinite) => Ok(false),
         Err(e) => Err(e.into()),

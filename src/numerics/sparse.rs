@@ -85,34 +85,11 @@ impl SparseSystem {
     /// Pattern of an `n × n` matrix from the positions of its entries, in the order the values
     /// will later be given.
     pub fn new(n: usize, positions: &[(usize, usize)]) -> Result<Self, SparseError> {
-        if let Some(p) = positions.iter().find(|&&(r, c)| r >= n || c >= n) {
-            return Err(SparseError::Pattern(format!(
-                "entry ({}, {}) outside a {n}×{n} matrix",
-                p.0, p.1
-            )));
-        }
-        let mut order: Vec<usize> = (0..positions.len()).collect();
-        order.sort_unstable_by_key(|&k| (positions[k].1, positions[k].0));
-        let mut col_ptr = vec![0usize; n + 1];
-        let mut row_idx = Vec::with_capacity(positions.len());
-        let mut slot = vec![0usize; positions.len()];
-        let mut last = None;
-        for &k in &order {
-            let (row, col) = positions[k];
-            if last != Some((row, col)) {
-                row_idx.push(row);
-                col_ptr[col + 1] += 1;
-                last = Some((row, col));
-            }
-            slot[k] = row_idx.len() - 1;
-        }
-        for c in 0..n {
-            col_ptr[c + 1] += col_ptr[c];
-        }
-        let nnz = row_idx.len();
+        let (symbolic, slot) = compress(n, positions)?;
+        let nnz = symbolic.row_idx().len();
         Ok(SparseSystem {
             n,
-            symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+            symbolic,
             slot,
             values: vec![0.0; nnz],
             llt: None,
@@ -122,6 +99,25 @@ impl SparseSystem {
             held: Held::None,
             workspace: MemBuffer::new(StackReq::empty()),
         })
+    }
+
+    /// Give the entries in new positions (same `n`). When they compress to the same pattern
+    /// as before (entries only reordered, duplicated or merged differently), the symbolic
+    /// factorisations are kept; otherwise they are rebuilt at the next factorisation. The
+    /// workspace is kept either way.
+    pub fn set_positions(&mut self, positions: &[(usize, usize)]) -> Result<(), SparseError> {
+        let (symbolic, slot) = compress(self.n, positions)?;
+        self.slot = slot;
+        self.held = Held::None;
+        let same = symbolic.col_ptr() == self.symbolic.col_ptr()
+            && symbolic.row_idx() == self.symbolic.row_idx();
+        if !same {
+            self.values = vec![0.0; symbolic.row_idx().len()];
+            self.symbolic = symbolic;
+            self.llt = None;
+            self.lu = None;
+        }
+        Ok(())
     }
 
     /// Number of unknowns.
@@ -272,6 +268,56 @@ impl SparseSystem {
         self.factor_lu(values)?;
         self.solve(rhs)
     }
+}
+
+/// The compressed-column pattern of an `n × n` matrix with entries at `positions` (rows
+/// sorted, duplicates merged) and, for each given entry, its index in the compressed values.
+/// A counting sort by column, then a sort of each column's few rows: linear in the entries.
+fn compress(
+    n: usize,
+    positions: &[(usize, usize)],
+) -> Result<(SymbolicSparseColMat<usize>, Vec<usize>), SparseError> {
+    if let Some(p) = positions.iter().find(|&&(r, c)| r >= n || c >= n) {
+        return Err(SparseError::Pattern(format!(
+            "entry ({}, {}) outside a {n}×{n} matrix",
+            p.0, p.1
+        )));
+    }
+    // entries bucketed by column
+    let mut start = vec![0usize; n + 1];
+    for &(_, c) in positions {
+        start[c + 1] += 1;
+    }
+    for c in 0..n {
+        start[c + 1] += start[c];
+    }
+    let mut next = start.clone();
+    let mut order = vec![0usize; positions.len()];
+    for (k, &(_, c)) in positions.iter().enumerate() {
+        order[next[c]] = k;
+        next[c] += 1;
+    }
+    let mut col_ptr = vec![0usize; n + 1];
+    let mut row_idx = Vec::with_capacity(positions.len());
+    let mut slot = vec![0usize; positions.len()];
+    for c in 0..n {
+        let bucket = &mut order[start[c]..start[c + 1]];
+        bucket.sort_unstable_by_key(|&k| positions[k].0);
+        let mut last = None;
+        for &k in bucket.iter() {
+            let row = positions[k].0;
+            if last != Some(row) {
+                row_idx.push(row);
+                last = Some(row);
+            }
+            slot[k] = row_idx.len() - 1;
+        }
+        col_ptr[c + 1] = row_idx.len();
+    }
+    Ok((
+        SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+        slot,
+    ))
 }
 
 fn check_rhs(n: usize, rhs: &[f64]) -> Result<(), SparseError> {
