@@ -16,7 +16,8 @@
 //! An ensemble (`turf.realisations` = N > 1, [`super::ensemble`]) runs the N realisations in
 //! parallel (rayon, one per thread), each with its own seed, checkpoint and files: realisation
 //! 0 exactly as a single run (its values under the single run's names), realisation k in
-//! `realisations/rKKK/`. Then the stage reduces them: `discrete_ensemble.csv` (σ at every step
+//! `realisations/rKKK/` (its curves, analysis, checkpoint and VTK; its plot is the
+//! ensemble's). Then the stage reduces them: `discrete_ensemble.csv` (σ at every step
 //! of the path: mean, 95 % interval, each realisation), the mean's branches
 //! `ensemble_stress_strain_{loading,unloading}.csv`, `discrete_ensemble.json` (seeds, the
 //! estimates of the peak stress, σ₀, E⁰, E^∞, ε₀ and the hysteresis, the failures), the
@@ -337,15 +338,21 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     let records = match drive {
         Ok(r) => r,
         Err(e) => {
+            // keep what the drive reached (step 0 at least, unless a side file failed first)
             let file = rel.join("stress_strain.csv");
-            let kept = match steps_table(&partial).write(&ctx.out_dir.join(&file)) {
-                Ok(()) if !partial.is_empty() => format!(
+            let written = !partial.is_empty()
+                && steps_table(&partial)
+                    .write(&ctx.out_dir.join(&file))
+                    .is_ok();
+            let kept = if written {
+                format!(
                     " (the {} steps reached are in {} and {})",
                     partial.len(),
                     file.display(),
                     rel.join(CHECKPOINT).display()
-                ),
-                _ => String::new(),
+                )
+            } else {
+                String::new()
             };
             return Err(failed(format!("{e}{kept}")));
         }
@@ -393,7 +400,8 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     let analysis_file = rel.join("discrete_analysis.json");
     write_json(&ctx.out_dir.join(&analysis_file), &analysis_json(&analysis)).map_err(report)?;
     files.push(analysis_file);
-    if s.output.plots {
+    // the other realisations' curves are in the ensemble's band plot
+    if s.output.plots && job.index == 0 {
         files.extend(
             write_plots(&analysis, &records, &ctx.out_dir.join(&rel))?
                 .into_iter()

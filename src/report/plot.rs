@@ -243,15 +243,18 @@ impl Plot {
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(|e| err(e.to_string()))?;
-        for (i, s) in self.series.iter().enumerate() {
-            let color = Palette99::pick(i).to_rgba();
+        // curves take the palette's colours in turn; a band takes the colour of the curve
+        // that follows it (the mean it surrounds), ensemble members a fixed grey
+        let pale = RGBAColor(128, 128, 128, 0.6);
+        let mut curves = 0;
+        for s in &self.series {
+            let color = Palette99::pick(curves).to_rgba();
             let pts: Vec<(f64, f64)> =
                 s.x.iter()
                     .zip(&s.y)
                     .filter(|(x, y)| self.shown(**x, **y))
                     .map(|(&x, &y)| (x, y))
                     .collect();
-            let pale = RGBAColor(128, 128, 128, 0.6);
             let anno = match s.style {
                 Style::Line => chart
                     .draw_series(LineSeries::new(pts, color.stroke_width(2)))
@@ -269,14 +272,26 @@ impl Plot {
                     .draw_series(std::iter::once(Polygon::new(pts, color.mix(0.25).filled())))
                     .map_err(|e| err(e.to_string()))?,
             };
+            if !matches!(s.style, Style::Thin | Style::Band) {
+                curves += 1;
+            }
             // unlabelled series (the second branch of a band, further ensemble members) stay
             // out of the legend
-            if !s.label.is_empty() {
-                let glyph = if s.style == Style::Thin { pale } else { color };
-                anno.label(s.label.clone()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], glyph.stroke_width(2))
-                });
+            if s.label.is_empty() {
+                continue;
             }
+            let anno = anno.label(s.label.clone());
+            match s.style {
+                Style::Band => anno.legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 20, y + 5)], color.mix(0.25).filled())
+                }),
+                Style::Thin => anno.legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], pale.stroke_width(2))
+                }),
+                _ => anno.legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                }),
+            };
         }
         if self.series.iter().any(|s| !s.label.is_empty()) {
             chart

@@ -1,7 +1,8 @@
 //! Ensembles of discrete-turf realisations (issue 18, item 3): `turf.realisations = 3` on the
-//! 4-tube test turf gives exactly the three single runs at the derived seeds, their mean, and
-//! a Student-t 95 % interval of the width computed here independently; one realisation is
-//! the run without the key; bad counts are refused by key and line.
+//! 4-tube test turf gives exactly the single runs at the derived seeds, their mean, and a
+//! Student-t 95 % interval of the width computed here independently, also when grown from a
+//! resumed 2-realisation run; one realisation is the run without the key; bad counts are
+//! refused by key and line; failed realisations are named and the others kept.
 
 use crate::common;
 
@@ -28,17 +29,23 @@ fn load(sets: &[String]) -> Loaded {
     load_str(&scene(), Path::new("t.toml"), sets).unwrap()
 }
 
-/// Run `loaded` into a fresh folder named by `tag`; the run must succeed.
-fn run_into(loaded: &Loaded, tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("turf-ensemble-{tag}-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
+/// Run `loaded` into `dir` (continuing from its checkpoints with `resume`); the run must
+/// succeed.
+fn run_in(loaded: &Loaded, dir: &Path, resume: bool) {
     let opts = RunOptions {
-        out: Some(dir.clone()),
+        out: Some(dir.to_path_buf()),
         progress: false,
-        resume: false,
+        resume,
     };
     let report = run(loaded, &opts).unwrap();
     assert!(report.failure.is_none(), "{:?}", report.failure);
+}
+
+/// Run `loaded` into a fresh folder named by `tag`.
+fn run_into(loaded: &Loaded, tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("turf-ensemble-{tag}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    run_in(loaded, &dir, false);
     dir
 }
 
@@ -133,7 +140,10 @@ fn without_time(path: &Path) -> Vec<String> {
 
 #[test]
 fn three_realisations_are_three_single_runs_their_mean_and_a_student_t_interval() {
-    let ensemble = run_into(&load(&["turf.realisations=3".into()]), "three");
+    // two realisations, then three resumed: the first two continue from their checkpoints
+    // (a realisation's checkpoint does not depend on the ensemble's size), the third is new
+    let ensemble = run_into(&load(&["turf.realisations=2".into()]), "three");
+    run_in(&load(&["turf.realisations=3".into()]), &ensemble, true);
     // realisations 0 and 2 again as single runs, each at its seed (0: the scene's own)
     let singles: Vec<PathBuf> = [0, 2]
         .iter()
@@ -223,6 +233,9 @@ fn three_realisations_are_three_single_runs_their_mean_and_a_student_t_interval(
     }
     assert_eq!(v["realisations"], 3.0);
     assert_eq!(v["realisations_failed"], 0.0);
+    assert_eq!(v["resumed_after_step"], 10.0, "realisation 0 was whole");
+    assert_eq!(members[1]["values"]["resumed_after_step"], 10.0);
+    assert!(members[2]["values"].get("resumed_after_step").is_none());
 
     // 4. realisation 0's files are the single run's; the others sit in their folders
     assert_eq!(
@@ -345,7 +358,11 @@ fn a_realisation_count_outside_one_to_a_thousand_is_refused_by_key_and_line() {
     );
     for bad in ["-1", "2.5", "three"] {
         let e = set(bad);
-        assert!(e.contains("turf.realisations"), "{bad}: {e}");
+        assert!(e.contains("turf.realisations (from --set)"), "{bad}: {e}");
+        assert!(
+            e.contains("1 to 1000 realisations, a whole number"),
+            "{bad}: {e}"
+        );
     }
 }
 
