@@ -346,8 +346,8 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
                     .is_ok();
             let kept = if written {
                 format!(
-                    " (the {} steps reached are in {} and {})",
-                    partial.len(),
+                    " (what it reached, steps 0 to {}, is in {} and {})",
+                    partial.len() - 1,
                     file.display(),
                     rel.join(CHECKPOINT).display()
                 )

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 
 /// What the files write where an interval cannot be computed.
 pub const NO_INTERVAL: &str =
-    "none: a confidence interval needs at least two realisations (one finished)";
+    "none: a confidence interval needs at least two realisations, and one gave this value";
 
 /// How the intervals are computed, as the result files state it.
 pub const INTERVAL_DEFINITION: &str = "two-sided 95 % confidence interval of the mean over the \

@@ -65,8 +65,8 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             let (file, what) = match (h.curve, realisations > 1) {
                 (Curve::Loading, false) => (LOADING_CSV, "discrete stage".to_string()),
                 (_, false) => (UNLOADING_CSV, "discrete stage".to_string()),
-                (Curve::Loading, true) => (ENSEMBLE_LOADING_CSV, ensemble_name(realisations)),
-                (_, true) => (ENSEMBLE_UNLOADING_CSV, ensemble_name(realisations)),
+                (Curve::Loading, true) => (ENSEMBLE_LOADING_CSV, ensemble_name(ctx, realisations)),
+                (_, true) => (ENSEMBLE_UNLOADING_CSV, ensemble_name(ctx, realisations)),
             };
             curve_source(&ctx.out_dir.join(file), format!("{what}, {file}"))?
         }
@@ -119,9 +119,20 @@ fn write_card(card: &MaterialCard, ctx: &StageContext) -> Result<(), crate::repo
     write_atomic(&ctx.out_dir.join("material.inp"), card.to_inp().as_bytes())
 }
 
-/// How the ensemble's mean curve is named in the card's provenance.
-fn ensemble_name(realisations: usize) -> String {
-    format!("mean of the discrete stage's {realisations} realisations")
+/// How the ensemble's mean curve is named in the card's provenance: over how many of the
+/// `asked` realisations (the discrete stage's `realisations_finished`).
+fn ensemble_name(ctx: &StageContext, asked: usize) -> String {
+    let finished = ctx
+        .previous
+        .iter()
+        .find(|r| r.stage == Stage::Discrete)
+        .and_then(|r| r.values.get("realisations_finished"))
+        .map_or(asked, |&n| n as usize);
+    if finished == asked {
+        format!("mean of the discrete stage's {asked} realisations")
+    } else {
+        format!("mean of the {finished} of the discrete stage's {asked} realisations that finished")
+    }
 }
 
 /// A curve file as the fit's source, named `name` in the card's provenance.

@@ -406,7 +406,40 @@ fn a_realisation_that_fails_is_named_and_the_others_are_kept() {
     );
     let h = values(&dir, Stage::Homogenize);
     assert_eq!(h["realisation_cards"], 1.0);
+    let card = std::fs::read_to_string(dir.join("material.json")).unwrap();
+    assert!(card.contains("mean of the 1 of the discrete stage's 4 realisations that finished"));
     assert!(h.get("card_youngs0_ci95_low_GPa").is_none());
     assert_no_nan(&dir);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn when_every_realisation_fails_the_stage_fails_naming_each() {
+    // one solver iteration cannot relax a turf whose tubes pull into contact
+    let loaded = load(&[
+        "turf.realisations=2".into(),
+        "compression.max_iterations=1".into(),
+    ]);
+    let dir = std::env::temp_dir().join(format!("turf-ensemble-allfail-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    let opts = RunOptions {
+        out: Some(dir.clone()),
+        progress: false,
+        resume: false,
+    };
+    let report = run(&loaded, &opts).unwrap();
+    let e = report
+        .failure
+        .expect("no realisation can finish")
+        .to_string();
+    for part in [
+        "all 2 realisations failed",
+        "realisation 0 (seed 5) failed",
+        &format!("realisation 1 (seed {}) failed", realisation_seed(5, 1)),
+    ] {
+        assert!(e.contains(part), "{part:?} missing from: {e}");
+    }
+    let summary = json(&dir.join("summary.json"));
+    assert_eq!(summary["complete"], false);
     std::fs::remove_dir_all(&dir).ok();
 }
