@@ -29,22 +29,32 @@ fn load(sets: &[String]) -> Loaded {
     load_str(&scene(), Path::new("t.toml"), sets).unwrap()
 }
 
-/// Run `loaded` into `dir` (continuing from its checkpoints with `resume`); the run must
-/// succeed.
-fn run_in(loaded: &Loaded, dir: &Path, resume: bool) {
+/// Run `loaded` into `dir`, continuing from its checkpoints with `resume`.
+fn run_report(loaded: &Loaded, dir: &Path, resume: bool) -> turf::pipeline::RunReport {
     let opts = RunOptions {
         out: Some(dir.to_path_buf()),
         progress: false,
         resume,
     };
-    let report = run(loaded, &opts).unwrap();
+    run(loaded, &opts).unwrap()
+}
+
+/// [`run_report`], and the run must succeed.
+fn run_in(loaded: &Loaded, dir: &Path, resume: bool) {
+    let report = run_report(loaded, dir, resume);
     assert!(report.failure.is_none(), "{:?}", report.failure);
 }
 
-/// Run `loaded` into a fresh folder named by `tag`.
-fn run_into(loaded: &Loaded, tag: &str) -> PathBuf {
+/// A fresh output folder named by `tag`.
+fn fresh_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("turf-ensemble-{tag}-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
+    dir
+}
+
+/// Run `loaded` into a fresh folder named by `tag`; the run must succeed.
+fn run_into(loaded: &Loaded, tag: &str) -> PathBuf {
+    let dir = fresh_dir(tag);
     run_in(loaded, &dir, false);
     dir
 }
@@ -420,15 +430,8 @@ fn when_every_realisation_fails_the_stage_fails_naming_each() {
         "turf.realisations=2".into(),
         "compression.max_iterations=1".into(),
     ]);
-    let dir = std::env::temp_dir().join(format!("turf-ensemble-allfail-{}", std::process::id()));
-    std::fs::remove_dir_all(&dir).ok();
-    let opts = RunOptions {
-        out: Some(dir.clone()),
-        progress: false,
-        resume: false,
-    };
-    let report = run(&loaded, &opts).unwrap();
-    let e = report
+    let dir = fresh_dir("allfail");
+    let e = run_report(&loaded, &dir, false)
         .failure
         .expect("no realisation can finish")
         .to_string();
