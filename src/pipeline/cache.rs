@@ -5,7 +5,9 @@
 //! **Key.** The FNV-1a 64-bit hash of the canonical JSON (object keys sorted, no whitespace)
 //! of: the stage, the turf version, the resolved scene sections the stage reads (internal
 //! units, defaults filled) and the keys of the cached stages it reads from. `discrete`:
-//! `[turf]`, `[rods]`, `[compression]`, `scene.seed`, `output.vtk`, `output.plots`.
+//! `[turf]` (with `turf.realisations` when above 1: an ensemble is another result; a
+//! one-realisation scene keeps the key it had before the ensemble existed), `[rods]`,
+//! `[compression]`, `scene.seed`, `output.vtk`, `output.plots`.
 //! `homogenize`: `[homogenize]`, `[viscoelastic]`, and the `discrete` key when it fits the
 //! discrete curve. A change of any other key (`[mesh]`, `[adhesion]`, `[schedule]`, ...) keeps
 //! the key. The key does not see code changes within one turf version: delete `cache/` to

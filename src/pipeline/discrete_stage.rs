@@ -12,7 +12,20 @@
 //! (`vtk/discrete_step_NNN.vtu`). After every strain step it saves `discrete_checkpoint.json`
 //! ([`crate::discrete::checkpoint`]); with `--resume` ([`StageContext::resume`]) a run of the
 //! same scene continues after the last saved step and gives the uninterrupted curve.
+//!
+//! An ensemble (`turf.realisations` = N > 1, [`super::ensemble`]) runs the N realisations in
+//! parallel (rayon, one per thread), each with its own seed, checkpoint and files: realisation
+//! 0 exactly as a single run (its values under the single run's names), realisation k in
+//! `realisations/rKKK/` (its curves, analysis, checkpoint and VTK; its plot is the
+//! ensemble's). Then the stage reduces them: `discrete_ensemble.csv` (σ at every step
+//! of the path: mean, 95 % interval, each realisation), the mean's branches
+//! `ensemble_stress_strain_{loading,unloading}.csv`, `discrete_ensemble.json` (seeds, the
+//! estimates of the peak stress, σ₀, E⁰, E^∞, ε₀ and the hysteresis, the failures), the
+//! summary's `ensemble_*` values and `plots/discrete_ensemble.{svg,png}` (the band). A
+//! realisation that fails is named with its seed and reason, keeps the steps it reached, and
+//! the ensemble goes on without it; the stage fails only when every realisation failed.
 
+use super::ensemble::{self, PathEnsemble};
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::analysis::{Branch, CurveAnalysis};
 use crate::discrete::broadphase::PeriodicBox;
@@ -34,8 +47,10 @@ use crate::report::{write_json, ReportError};
 use crate::scene::compression::{Compression, DiscreteSolver, Indenter, Platen};
 use crate::scene::rods::End;
 use crate::scene::{ResolvedScene, Stage};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Segments per tube when `[turf.tube] segment` is not given (the scene reference's default).
 const DEFAULT_SEGMENTS_PER_TUBE: f64 = 20.0;
@@ -73,7 +88,7 @@ fn report(source: ReportError) -> StageError {
 /// The sphere's load–depth curve (every step: depth below the first contact height, load).
 const LOAD_DEPTH_CSV: &str = "load_depth.csv";
 
-/// Run the stage.
+/// Run the stage: the rods, one turf, or an ensemble of `turf.realisations` turfs.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
     let s = &scene.scene;
     if let Some(r) = &s.rods {
@@ -94,8 +109,100 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             "compression.platen = \"bonded\" is not built: the platen is frictionless".into(),
         ));
     }
-    let mut turf =
-        generate_turf(&turf_params(t, s.scene.seed)).map_err(|e| failed(e.to_string()))?;
+    let job = |index: usize| Job {
+        scene: s,
+        turf: t,
+        compression: k,
+        index,
+        count: t.realisations,
+        seed: ensemble::realisation_seed(s.scene.seed, index),
+        ctx,
+    };
+    if t.realisations == 1 {
+        return run_realisation(&job(0), &AtomicUsize::new(0)).map(Finished::into_output);
+    }
+    let done = AtomicUsize::new(0);
+    let results: Vec<Result<Finished, StageError>> = (0..t.realisations)
+        .into_par_iter()
+        .map(|i| {
+            let r = run_realisation(&job(i), &done);
+            done.fetch_add(1, Ordering::Relaxed);
+            r
+        })
+        .collect();
+    ensemble_output(s, results, ctx)
+}
+
+/// One realisation of the turf to compress.
+struct Job<'a> {
+    scene: &'a crate::scene::Scene,
+    turf: &'a crate::scene::turf::Turf,
+    compression: &'a Compression,
+    /// realisation index k (0 for a single turf)
+    index: usize,
+    /// realisations in the ensemble
+    count: usize,
+    /// the turf's seed ([`ensemble::realisation_seed`])
+    seed: u64,
+    ctx: &'a StageContext<'a>,
+}
+
+impl Job<'_> {
+    /// The realisation's folder relative to the output folder.
+    fn rel(&self) -> PathBuf {
+        ensemble::realisation_dir(self.index)
+    }
+
+    /// The progress message: as a single run has it, prefixed by the ensemble's count.
+    fn say(&self, done: &AtomicUsize, what: String) {
+        let Some(bar) = self.ctx.progress else {
+            return;
+        };
+        if self.count == 1 {
+            bar.set_message(format!("discrete: {what}"));
+        } else {
+            bar.set_message(format!(
+                "discrete: {}/{} realisations done; r{:03}: {what}",
+                done.load(Ordering::Relaxed),
+                self.count,
+                self.index
+            ));
+        }
+    }
+}
+
+/// A realisation compressed: its curve, its analysis and what the summary reports of it.
+struct Finished {
+    index: usize,
+    seed: u64,
+    records: Vec<StepRecord>,
+    values: BTreeMap<String, f64>,
+    /// the tangent table (realisation 0's goes into the summary's tables)
+    tangent: Table,
+    /// files written, relative to the output folder
+    files: Vec<PathBuf>,
+    evaluations: u64,
+}
+
+impl Finished {
+    /// The stage's output for a single realisation (the run without an ensemble).
+    fn into_output(self) -> StageOutput {
+        StageOutput {
+            values: self.values,
+            tables: vec![("tangent".into(), self.tangent)],
+            evaluations: self.evaluations,
+            files: self.files,
+        }
+    }
+}
+
+/// Generate, relax and compress one realisation, writing its files into its folder. A drive
+/// that fails part-way writes the steps it reached (`stress_strain.csv`) before the error.
+fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError> {
+    let (s, t, k, ctx) = (job.scene, job.turf, job.compression, job.ctx);
+    let rel = job.rel();
+    let dir = ctx.out_dir.join(&rel);
+    let mut turf = generate_turf(&turf_params(t, job.seed)).map_err(|e| failed(e.to_string()))?;
     if !t.periodic {
         turf.periodic = PeriodicBox::default();
     }
@@ -118,8 +225,14 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     }
     let solver = static_solver(k);
     let mut x = turf.coordinates();
-    let checkpoint_path = ctx.out_dir.join(CHECKPOINT);
-    let fingerprint = serde_json::to_string(&(s.scene.seed, t, k))
+    let checkpoint_path = dir.join(CHECKPOINT);
+    // the realisation's own seed and the sections without the ensemble's size: a
+    // realisation's checkpoint does not depend on how many others run beside it
+    let single = crate::scene::turf::Turf {
+        realisations: 1,
+        ..t.clone()
+    };
+    let fingerprint = serde_json::to_string(&(job.seed, &single, k))
         .map_err(|e| failed(format!("scene fingerprint: {e}")))?;
     let saved = if ctx.resume {
         Checkpoint::load(&checkpoint_path, &fingerprint, x.len())
@@ -150,9 +263,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             )
         }
         None => {
-            if let Some(bar) = ctx.progress {
-                bar.set_message("discrete: relaxing the turf");
-            }
+            job.say(done, "relaxing the turf".into());
             let r = relax(&mut sys, &mut x, &solver)
                 .map_err(|e| failed(format!("relaxation of the generated turf: {e}")))?;
             let cost = SavedRelaxation {
@@ -188,16 +299,19 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     let total = if k.unload { 2 * k.steps } else { k.steps };
     let start_height = resume.as_ref().map_or(sys.height(&x), |r| r.start_height);
     let mut reached: Vec<SavedStep> = Vec::new();
+    let mut partial: Vec<StepRecord> = Vec::new();
     let mut observe = |rec: &StepRecord, xs: &[f64]| {
-        if let Some(bar) = ctx.progress {
-            bar.set_message(format!(
-                "discrete: step {}/{total}, strain {:.3}, stress {:.3e} GPa",
+        job.say(
+            done,
+            format!(
+                "step {}/{total}, strain {:.3}, stress {:.3e} GPa",
                 rec.step, rec.strain, rec.stress
-            ));
-        }
+            ),
+        );
         if side_error.is_some() {
             return;
         }
+        partial.push(*rec);
         reached.push(SavedStep {
             cost: rec.cost,
             x: xs.to_vec(),
@@ -206,37 +320,60 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         if let Err(e) = c.save(&checkpoint_path) {
             side_error = Some(failed(e.to_string()));
         } else if s.output.vtk && vtk_steps.contains(&rec.step) {
-            let rel = PathBuf::from(format!("vtk/discrete_step_{:03}.vtu", rec.step));
-            match polylines(&turf.layout(), xs).write(&ctx.out_dir.join(&rel)) {
-                Ok(()) => vtk_files.push(rel),
+            let vtu = rel.join(format!("vtk/discrete_step_{:03}.vtu", rec.step));
+            match polylines(&turf.layout(), xs).write(&ctx.out_dir.join(&vtu)) {
+                Ok(()) => vtk_files.push(vtu),
                 Err(e) => side_error = Some(report(e)),
             }
         }
     };
-    let records = compress(
+    let drive = compress(
         &mut sys,
         &mut x,
         &params,
         &solver,
         resume.as_ref(),
         &mut observe,
-    )
-    .map_err(|e| failed(e.to_string()))?;
+    );
+    let records = match drive {
+        Ok(r) => r,
+        Err(e) => {
+            // keep what the drive reached (step 0 at least, unless a side file failed first)
+            let file = rel.join("stress_strain.csv");
+            let written = !partial.is_empty()
+                && steps_table(&partial)
+                    .write(&ctx.out_dir.join(&file))
+                    .is_ok();
+            let kept = if written {
+                format!(
+                    " (what it reached, steps 0 to {}, is in {} and {})",
+                    partial.len() - 1,
+                    file.display(),
+                    rel.join(CHECKPOINT).display()
+                )
+            } else {
+                String::new()
+            };
+            return Err(failed(format!("{e}{kept}")));
+        }
+    };
     if let Some(e) = side_error {
         return Err(e);
     }
     let analysis = analyse(&records);
 
     let mut files = vtk_files;
-    files.push(CHECKPOINT.into());
-    let steps = steps_table(&records);
-    steps
-        .write(&ctx.out_dir.join("stress_strain.csv"))
-        .map_err(report)?;
-    files.push("stress_strain.csv".into());
+    files.push(rel.join(CHECKPOINT));
+    let mut write = |table: &Table, name: &str| -> Result<(), StageError> {
+        let file = rel.join(name);
+        table.write(&ctx.out_dir.join(&file)).map_err(report)?;
+        files.push(file);
+        Ok(())
+    };
+    write(&steps_table(&records), "stress_strain.csv")?;
     if k.indenter == Indenter::Sphere {
         let h0 = records[0].height;
-        Table::new()
+        let load_depth = Table::new()
             .column("depth_nm", records.iter().map(|r| h0 - r.height).collect())
             .column(
                 "load_nN",
@@ -248,29 +385,28 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
                     .iter()
                     .map(|r| f64::from(u8::from(r.loading)))
                     .collect(),
-            )
-            .write(&ctx.out_dir.join(LOAD_DEPTH_CSV))
-            .map_err(report)?;
-        files.push(LOAD_DEPTH_CSV.into());
+            );
+        write(&load_depth, LOAD_DEPTH_CSV)?;
     }
-    branch_table(&analysis.loading)
-        .write(&ctx.out_dir.join(LOADING_CSV))
-        .map_err(report)?;
-    files.push(LOADING_CSV.into());
+    write(&branch_table(&analysis.loading), LOADING_CSV)?;
     if let Some(u) = &analysis.unloading {
-        branch_table(u)
-            .write(&ctx.out_dir.join(UNLOADING_CSV))
-            .map_err(report)?;
-        files.push(UNLOADING_CSV.into());
+        write(&branch_table(u), UNLOADING_CSV)?;
     }
-    write_json(
-        &ctx.out_dir.join("discrete_analysis.json"),
-        &analysis_json(&analysis),
-    )
-    .map_err(report)?;
-    files.push("discrete_analysis.json".into());
-    if s.output.plots {
-        files.extend(write_plots(&analysis, &records, ctx)?);
+    let tangent = tangent_table(&analysis.loading);
+    if job.index > 0 {
+        // realisation 0's tangent table is the stage's, written by the pipeline
+        write(&tangent, "discrete_tangent.csv")?;
+    }
+    let analysis_file = rel.join("discrete_analysis.json");
+    write_json(&ctx.out_dir.join(&analysis_file), &analysis_json(&analysis)).map_err(report)?;
+    files.push(analysis_file);
+    // the other realisations' curves are in the ensemble's band plot
+    if s.output.plots && job.index == 0 {
+        files.extend(
+            write_plots(&analysis, &records, &ctx.out_dir.join(&rel))?
+                .into_iter()
+                .map(|f| rel.join(f)),
+        );
     }
 
     let mut values = BTreeMap::new();
@@ -332,12 +468,171 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             .iter()
             .map(|r| r.cost.gradient_evaluations)
             .sum::<usize>();
-    Ok(StageOutput {
+    Ok(Finished {
+        index: job.index,
+        seed: job.seed,
+        records,
         values,
-        tables: vec![("tangent".into(), tangent_table(&analysis.loading))],
-        evaluations: evaluations as u64,
+        tangent,
         files,
+        evaluations: evaluations as u64,
     })
+}
+
+/// The scalars of a realisation that the ensemble reduces, as (summary name without the unit,
+/// unit suffix): what [`CurveAnalysis`] gives — the peak stress, σ₀, the fitted (5.1) law and
+/// the hysteresis.
+const ENSEMBLE_SCALARS: [(&str, &str); 6] = [
+    ("peak_stress", "_GPa"),
+    ("sigma0", "_GPa"),
+    ("tangent_e0", "_GPa"),
+    ("tangent_e_inf", "_GPa"),
+    ("tangent_eps0", ""),
+    ("hysteresis", ""),
+];
+
+/// The ensemble's mean stress–strain curve along the common path, every step.
+pub const ENSEMBLE_CSV: &str = "discrete_ensemble.csv";
+/// The ensemble's mean loading branch (strain ascending), what homogenize fits for N > 1.
+pub const ENSEMBLE_LOADING_CSV: &str = "ensemble_stress_strain_loading.csv";
+/// The ensemble's mean unloading branch (strain ascending).
+pub(super) const ENSEMBLE_UNLOADING_CSV: &str = "ensemble_stress_strain_unloading.csv";
+/// The ensemble's report: seeds, estimates, failures.
+const ENSEMBLE_JSON: &str = "discrete_ensemble.json";
+
+/// The stage's output for an ensemble: realisation 0's values and files under the names of a
+/// single run, the realisations' mean and 95 % interval (`ensemble_*` values,
+/// [`ENSEMBLE_CSV`], the mean branches, [`ENSEMBLE_JSON`], the band plot), and the failed
+/// realisations named with their reasons. Fails only when no realisation finished.
+fn ensemble_output(
+    s: &crate::scene::Scene,
+    results: Vec<Result<Finished, StageError>>,
+    ctx: &StageContext,
+) -> Result<StageOutput, StageError> {
+    let count = results.len();
+    let mut finished = Vec::new();
+    let mut failures = Vec::new();
+    for (i, r) in results.into_iter().enumerate() {
+        match r {
+            Ok(f) => finished.push(f),
+            Err(e) => {
+                let why = match e {
+                    StageError::Failed { message, .. } => message,
+                    StageError::Report { source, .. } => source.to_string(),
+                    other => other.to_string(),
+                };
+                failures.push((i, ensemble::realisation_seed(s.scene.seed, i), why));
+            }
+        }
+    }
+    let failure_text: Vec<String> = failures
+        .iter()
+        .map(|(i, seed, why)| format!("realisation {i} (seed {seed}) failed: {why}"))
+        .collect();
+    let Some(first) = finished.first() else {
+        return Err(failed(format!(
+            "all {count} realisations failed: {}",
+            failure_text.join("; ")
+        )));
+    };
+    for line in &failure_text {
+        let line = format!("discrete: {line}; the ensemble goes on without it");
+        match ctx.progress {
+            Some(bar) => bar.println(line),
+            None => eprintln!("{line}"),
+        }
+    }
+    let path = &first.records;
+    let ensemble = PathEnsemble::new(
+        path.iter().map(|r| r.strain).collect(),
+        path.iter().map(|r| r.loading).collect(),
+        finished
+            .iter()
+            .map(|f| (f.index, f.records.iter().map(|r| r.stress).collect()))
+            .collect(),
+    )
+    .map_err(failed)?;
+    let names: Vec<String> = ENSEMBLE_SCALARS
+        .iter()
+        .map(|(base, unit)| format!("{base}{unit}"))
+        .collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let scalars = ensemble::reduce_values(&names, finished.iter().map(|f| &f.values));
+
+    let mut out = StageOutput::default();
+    let mut files: Vec<PathBuf> = Vec::new();
+    let write = |table: Table, name: &str, files: &mut Vec<PathBuf>| -> Result<(), StageError> {
+        table.write(&ctx.out_dir.join(name)).map_err(report)?;
+        files.push(name.into());
+        Ok(())
+    };
+    write(ensemble.table(), ENSEMBLE_CSV, &mut files)?;
+    let (mean_loading, mean_unloading) = ensemble.mean_branches();
+    write(
+        branch_table(&mean_loading),
+        ENSEMBLE_LOADING_CSV,
+        &mut files,
+    )?;
+    if let Some(u) = &mean_unloading {
+        write(branch_table(u), ENSEMBLE_UNLOADING_CSV, &mut files)?;
+    }
+    let mean_analysis = CurveAnalysis::new(mean_loading, mean_unloading);
+    let mut estimates = serde_json::Map::new();
+    for ((base, unit), name) in ENSEMBLE_SCALARS.iter().zip(&names) {
+        if let Some(e) = scalars.get(*name) {
+            ensemble::put_estimate(&mut out.values, &format!("ensemble_{base}"), unit, e);
+            estimates.insert(name.to_string(), ensemble::estimate_json(e));
+        }
+    }
+    let realisations: Vec<serde_json::Value> = finished
+        .iter()
+        .map(|f| {
+            serde_json::json!({
+                "realisation": f.index,
+                "seed": f.seed,
+                "dir": ensemble::realisation_dir(f.index).display().to_string(),
+                "values": f.values,
+            })
+        })
+        .collect();
+    let failed_json: Vec<serde_json::Value> = failures
+        .iter()
+        .map(|(i, seed, why)| serde_json::json!({"realisation": i, "seed": seed, "error": why}))
+        .collect();
+    let json = serde_json::json!({
+        "realisations": count,
+        "finished": finished.len(),
+        "confidence_interval": ensemble::INTERVAL_DEFINITION,
+        "estimates": estimates,
+        "mean_curve": analysis_json(&mean_analysis),
+        "members": realisations,
+        "failed": failed_json,
+    });
+    write_json(&ctx.out_dir.join(ENSEMBLE_JSON), &json).map_err(report)?;
+    files.push(ENSEMBLE_JSON.into());
+    if s.output.plots {
+        ensemble
+            .plot()
+            .write(&ctx.out_dir.join("plots"), "discrete_ensemble")
+            .map_err(report)?;
+        files.push("plots/discrete_ensemble.svg".into());
+        files.push("plots/discrete_ensemble.png".into());
+    }
+    out.values.insert("realisations".into(), count as f64);
+    out.values
+        .insert("realisations_finished".into(), finished.len() as f64);
+    out.values
+        .insert("realisations_failed".into(), failures.len() as f64);
+    for f in finished {
+        out.evaluations += f.evaluations;
+        out.files.extend(f.files);
+        if f.index == 0 {
+            out.values.extend(f.values);
+            out.tables.push(("tangent".into(), f.tangent));
+        }
+    }
+    out.files.extend(files);
+    Ok(out)
 }
 
 /// `[rods]`: the rods in equilibrium under their end loads (Newton, default tolerances).
@@ -501,14 +796,10 @@ fn static_solver(k: &Compression) -> StaticSolver {
 
 /// Loading (step 0 to the peak) and unloading (peak to the end, reversed to ascending strain).
 fn analyse(records: &[StepRecord]) -> CurveAnalysis {
-    let branch = |it: &mut dyn Iterator<Item = &StepRecord>| {
-        let (strain, stress) = it.map(|r| (r.strain, r.stress)).unzip();
-        Branch { strain, stress }
-    };
-    let peak = records.iter().filter(|r| r.loading).count();
-    let loading = branch(&mut records[..peak].iter());
-    let unloading = (records.len() > peak).then(|| branch(&mut records[peak - 1..].iter().rev()));
-    CurveAnalysis::new(loading, unloading)
+    let col = |f: fn(&StepRecord) -> f64| records.iter().map(f).collect::<Vec<f64>>();
+    let loading: Vec<bool> = records.iter().map(|r| r.loading).collect();
+    let (l, u) = ensemble::branches(&col(|r| r.strain), &col(|r| r.stress), &loading);
+    CurveAnalysis::new(l, u)
 }
 
 fn steps_table(records: &[StepRecord]) -> Table {
@@ -545,13 +836,20 @@ fn tangent_table(b: &Branch) -> Table {
 
 fn analysis_json(a: &CurveAnalysis) -> serde_json::Value {
     let fit = match &a.fit {
-        Ok(f) => serde_json::json!({
-            "e0_GPa": f.law.e0,
-            "e_inf_GPa": f.law.e_inf,
-            "eps0": f.law.eps0,
-            "std_errors": f.std_errors,
-            "rms_rel": f.rms_rel,
-        }),
+        Ok(f) => {
+            let mut fit = serde_json::json!({
+                "e0_GPa": f.law.e0,
+                "e_inf_GPa": f.law.e_inf,
+                "eps0": f.law.eps0,
+                "rms_rel": f.rms_rel,
+            });
+            // an exact or degenerate fit has none (a null or a NaN would refuse the file)
+            fit["std_errors"] = match f.std_errors {
+                Some(e) if e.iter().all(|x| x.is_finite()) => e.to_vec().into(),
+                _ => "not estimated: the fit is exact or its covariance is singular".into(),
+            };
+            fit
+        }
         Err(e) => serde_json::json!({ "error": e }),
     };
     let mut json = serde_json::json!({
@@ -573,12 +871,13 @@ fn analysis_json(a: &CurveAnalysis) -> serde_json::Value {
     json
 }
 
+/// The realisation's plots under `out/plots`; returns their paths relative to `out`.
 fn write_plots(
     a: &CurveAnalysis,
     records: &[StepRecord],
-    ctx: &StageContext,
+    out: &Path,
 ) -> Result<Vec<PathBuf>, StageError> {
-    let dir = ctx.out_dir.join("plots");
+    let dir = out.join("plots");
     let mut stress =
         Plot::new("Turf compression", "nominal strain", "nominal stress (GPa)").with(Series::line(
             "loading",

@@ -3,16 +3,30 @@
 //! discrete stage's compression curve ([`crate::homogenize`]; the branch files the discrete
 //! stage wrote into the output folder). Writes `material.json` and
 //! `material.inp` in the output folder, and the fit's own files under `homogenize/`.
+//!
+//! For an ensemble (`turf.realisations` > 1) the card is fitted to the realisations' mean
+//! curve, and the same fit is repeated on every realisation's own curve to show how far the
+//! card's constants move from one turf to the next: the mean, 95 % interval, minimum and
+//! maximum of each constant ([`super::ensemble`]) in the summary (`card_*`),
+//! `homogenize/ensemble.json` and `homogenize/card_spread.csv`.
 
-use super::discrete_stage::{LOADING_CSV, UNLOADING_CSV};
+use super::discrete_stage::{
+    ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV, LOADING_CSV, UNLOADING_CSV,
+};
+use super::ensemble;
 use super::{StageContext, StageError, StageOutput};
 use crate::homogenize::{
-    self, card::MaterialCard, tangent_law::TangentLaw, HomogenizeParams, Relaxation, Source,
+    self, card::MaterialCard, tangent_law::TangentLaw, HomogenizeOutput, HomogenizeParams,
+    Relaxation, Source,
 };
+use crate::numerics::statistics::Estimate;
+use crate::report::csv::Table;
 use crate::report::{write_atomic, write_json};
-use crate::scene::homogenize::Curve;
-use crate::scene::{ResolvedScene, Stage};
+use crate::scene::homogenize::{Curve, Homogenize};
+use crate::scene::{ResolvedScene, Scene, Stage};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
 fn failed(message: String) -> StageError {
     StageError::Failed {
@@ -28,6 +42,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         .homogenize
         .as_ref()
         .ok_or_else(|| failed("needs [homogenize]".into()))?;
+    let realisations = s.turf.as_ref().map_or(1, |t| t.realisations);
     let source = match h.curve {
         Curve::TangentLaw => {
             let (Some(e0), Some(e_inf), Some(eps0)) = (h.e0, h.e_inf, h.eps0) else {
@@ -47,39 +62,16 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
                         .into(),
                 ));
             }
-            let file = match h.curve {
-                Curve::Loading => LOADING_CSV,
-                _ => UNLOADING_CSV,
+            let (file, what) = match (h.curve, realisations > 1) {
+                (Curve::Loading, false) => (LOADING_CSV, "discrete stage".to_string()),
+                (_, false) => (UNLOADING_CSV, "discrete stage".to_string()),
+                (Curve::Loading, true) => (ENSEMBLE_LOADING_CSV, ensemble_name(ctx, realisations)),
+                (_, true) => (ENSEMBLE_UNLOADING_CSV, ensemble_name(ctx, realisations)),
             };
-            let path = ctx.out_dir.join(file);
-            let curve = homogenize::read_curve(&path).map_err(|e| failed(e.to_string()))?;
-            Source::Curve {
-                curve,
-                name: format!("discrete stage, {file}"),
-            }
+            curve_source(&ctx.out_dir.join(file), format!("{what}, {file}"))?
         }
     };
-    let mut params = HomogenizeParams::new(source);
-    params.terms = h.terms;
-    if let Some(e) = h.strain_max {
-        params.strain_max = e.0;
-    }
-    params.pin_initial_modulus = h.pin_e0;
-    params.relaxation = match &s.viscoelastic {
-        None => None,
-        Some(v) if v.g.len() == 1 => Some(Relaxation::Law {
-            mu_bar: v.g[0].0,
-            tau: v.tau[0].0,
-        }),
-        Some(v) => {
-            return Err(failed(format!(
-                "[viscoelastic] has {} Prony terms; the card writer takes the seed's one-term \
-                 relaxation (5.8) from a scene — fit several terms with `turf homogenize \
-                 --relaxation-curve`",
-                v.g.len()
-            )))
-        }
-    };
+    let params = fit_params(h, s, source)?;
     let out = homogenize::run(&params).map_err(|e| failed(e.to_string()))?;
     // on a terminal the warnings show as they arise; they are always in homogenize/summary.json
     if let Some(bar) = ctx.progress {
@@ -108,6 +100,11 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     }
     let mut files = vec!["material.json".to_string(), "material.inp".to_string()];
     files.extend(summary.files.iter().map(|f| format!("homogenize/{f}")));
+    if realisations > 1 && h.curve != Curve::TangentLaw {
+        let spread = card_spread(h, s, ctx, &summary)?;
+        values.extend(spread.values);
+        files.extend(spread.files);
+    }
     Ok(StageOutput {
         values,
         tables: Vec::new(),
@@ -120,4 +117,172 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
 fn write_card(card: &MaterialCard, ctx: &StageContext) -> Result<(), crate::report::ReportError> {
     write_json(&ctx.out_dir.join("material.json"), &card.to_json())?;
     write_atomic(&ctx.out_dir.join("material.inp"), card.to_inp().as_bytes())
+}
+
+/// How the ensemble's mean curve is named in the card's provenance: over how many of the
+/// `asked` realisations (the discrete stage's `realisations_finished`).
+fn ensemble_name(ctx: &StageContext, asked: usize) -> String {
+    let finished = ctx
+        .previous
+        .iter()
+        .find(|r| r.stage == Stage::Discrete)
+        .and_then(|r| r.values.get("realisations_finished"))
+        .map_or(asked, |&n| n as usize);
+    if finished == asked {
+        format!("mean of the discrete stage's {asked} realisations")
+    } else {
+        format!("mean of the {finished} of the discrete stage's {asked} realisations that finished")
+    }
+}
+
+/// A curve file as the fit's source, named `name` in the card's provenance.
+fn curve_source(path: &Path, name: String) -> Result<Source, StageError> {
+    let curve = homogenize::read_curve(path).map_err(|e| failed(e.to_string()))?;
+    Ok(Source::Curve { curve, name })
+}
+
+/// The `[homogenize]` and `[viscoelastic]` settings around a source.
+fn fit_params(h: &Homogenize, s: &Scene, source: Source) -> Result<HomogenizeParams, StageError> {
+    let mut params = HomogenizeParams::new(source);
+    params.terms = h.terms;
+    if let Some(e) = h.strain_max {
+        params.strain_max = e.0;
+    }
+    params.pin_initial_modulus = h.pin_e0;
+    params.relaxation = match &s.viscoelastic {
+        None => None,
+        Some(v) if v.g.len() == 1 => Some(Relaxation::Law {
+            mu_bar: v.g[0].0,
+            tau: v.tau[0].0,
+        }),
+        Some(v) => {
+            return Err(failed(format!(
+                "[viscoelastic] has {} Prony terms; the card writer takes the seed's one-term \
+                 relaxation (5.8) from a scene — fit several terms with `turf homogenize \
+                 --relaxation-curve`",
+                v.g.len()
+            )))
+        }
+    };
+    Ok(params)
+}
+
+/// What the spread of the card over the realisations adds to the stage's output.
+struct Spread {
+    values: BTreeMap<String, f64>,
+    files: Vec<String>,
+}
+
+/// A card's constant: (name without unit, unit suffix, value).
+type Constant = (String, &'static str, f64);
+
+/// The card's constants of one fit: the initial Young's modulus, then μᵢ, αᵢ, βᵢ of the terms
+/// in ascending αᵢ (a fit may list its terms in any order), then the fit's relative RMS misfit
+/// to its own curve.
+fn card_constants(out: &HomogenizeOutput) -> Vec<Constant> {
+    let m = &out.hyperfoam_fit.material;
+    let mut terms = m.terms.clone();
+    terms.sort_by(|a, b| a.alpha.total_cmp(&b.alpha));
+    let mut c = vec![("youngs0".to_string(), "_GPa", m.initial_youngs_modulus())];
+    for (i, t) in terms.iter().enumerate() {
+        c.push((format!("mu{}", i + 1), "_GPa", t.mu));
+        c.push((format!("alpha{}", i + 1), "", t.alpha));
+        c.push((format!("beta{}", i + 1), "", t.beta));
+    }
+    c.push(("fit_rms_rel".to_string(), "", out.hyperfoam_fit.rms_rel));
+    c
+}
+
+/// Fit the card to every realisation's own curve (the branch the scene fits, from the files
+/// the discrete stage listed) and reduce each constant over the realisations. A realisation
+/// whose fit fails is named in `homogenize/ensemble.json` and left out.
+fn card_spread(
+    h: &Homogenize,
+    s: &Scene,
+    ctx: &StageContext,
+    mean: &homogenize::Summary,
+) -> Result<Spread, StageError> {
+    let branch = match h.curve {
+        Curve::Loading => LOADING_CSV,
+        _ => UNLOADING_CSV,
+    };
+    let curves: Vec<(usize, PathBuf)> = ctx
+        .previous
+        .iter()
+        .filter(|r| r.stage == Stage::Discrete)
+        .flat_map(|r| r.files.iter())
+        .filter_map(|f| {
+            let f = PathBuf::from(f);
+            ensemble::realisation_of(&f, branch).map(|k| (k, f))
+        })
+        .collect();
+    let fits: Vec<(usize, Result<Vec<Constant>, String>)> = curves
+        .par_iter()
+        .map(|(k, f)| {
+            let name = format!("realisation {k}, {}", f.display());
+            let fit = curve_source(&ctx.out_dir.join(f), name)
+                .and_then(|src| fit_params(h, s, src))
+                .map_err(|e| e.to_string())
+                .and_then(|p| homogenize::run(&p).map_err(|e| e.to_string()));
+            (*k, fit.map(|o| card_constants(&o)))
+        })
+        .collect();
+    let mut cards: Vec<(usize, Vec<Constant>)> = Vec::new();
+    let mut failures: Vec<serde_json::Value> = Vec::new();
+    for (k, fit) in fits {
+        match fit {
+            Ok(c) => cards.push((k, c)),
+            Err(e) => failures.push(serde_json::json!({"realisation": k, "error": e})),
+        }
+    }
+    let mut values = BTreeMap::from([
+        ("realisation_cards".to_string(), cards.len() as f64),
+        (
+            "realisation_cards_failed".to_string(),
+            failures.len() as f64,
+        ),
+    ]);
+    let mut estimates = serde_json::Map::new();
+    let mut table = Table::new().column(
+        "realisation",
+        cards.iter().map(|(k, _)| *k as f64).collect(),
+    );
+    if let Some((_, first)) = cards.first() {
+        for (i, (name, unit, _)) in first.iter().enumerate() {
+            let samples: Vec<f64> = cards.iter().map(|(_, c)| c[i].2).collect();
+            if let Some(e) = Estimate::of(&samples) {
+                ensemble::put_estimate(&mut values, &format!("card_{name}"), unit, &e);
+                estimates.insert(format!("{name}{unit}"), ensemble::estimate_json(&e));
+            }
+            table = table.column(&format!("{name}{unit}"), samples);
+        }
+    }
+    let json = serde_json::json!({
+        "mean_card": {
+            "fitted_to": "the mean curve of the realisations",
+            "fit_rms_rel_to_mean_curve": mean.fit_rms_rel,
+            "fit_max_rel_to_mean_curve": mean.fit_max_rel,
+        },
+        "realisation_cards": {
+            "what": "the same fit repeated on each realisation's own curve; terms in ascending alpha",
+            "confidence_interval": ensemble::INTERVAL_DEFINITION,
+            "constants": estimates,
+            "fitted": cards.len(),
+            "failed": failures,
+        },
+    });
+    let report = |source| StageError::Report {
+        stage: Stage::Homogenize,
+        source,
+    };
+    let dir = ctx.out_dir.join("homogenize");
+    write_json(&dir.join("ensemble.json"), &json).map_err(report)?;
+    table.write(&dir.join("card_spread.csv")).map_err(report)?;
+    Ok(Spread {
+        values,
+        files: vec![
+            "homogenize/ensemble.json".into(),
+            "homogenize/card_spread.csv".into(),
+        ],
+    })
 }

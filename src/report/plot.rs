@@ -26,6 +26,10 @@ pub enum Style {
     Points,
     /// a dashed line (reference curves: theory)
     Dashed,
+    /// a thin pale line (the members of an ensemble)
+    Thin,
+    /// a filled translucent region whose outline is the series' points (a confidence band)
+    Band,
 }
 
 /// One curve of a plot.
@@ -67,6 +71,27 @@ impl Series {
             x,
             y,
             style: Style::Dashed,
+        }
+    }
+    /// A thin pale line series (one member of an ensemble).
+    pub fn thin(label: &str, x: Vec<f64>, y: Vec<f64>) -> Self {
+        Series {
+            label: label.into(),
+            x,
+            y,
+            style: Style::Thin,
+        }
+    }
+    /// The band between `low` and `high` over `x` (all of one length): its outline runs along
+    /// `high` forward and back along `low`.
+    pub fn band(label: &str, x: &[f64], low: &[f64], high: &[f64]) -> Self {
+        let xs = x.iter().chain(x.iter().rev()).copied().collect();
+        let ys = high.iter().chain(low.iter().rev()).copied().collect();
+        Series {
+            label: label.into(),
+            x: xs,
+            y: ys,
+            style: Style::Band,
         }
     }
 }
@@ -218,8 +243,12 @@ impl Plot {
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(|e| err(e.to_string()))?;
-        for (i, s) in self.series.iter().enumerate() {
-            let color = Palette99::pick(i).to_rgba();
+        // curves take the palette's colours in turn; a band takes the colour of the curve
+        // that follows it (the mean it surrounds), ensemble members a fixed grey
+        let pale = RGBAColor(128, 128, 128, 0.6);
+        let mut curves = 0;
+        for s in &self.series {
+            let color = Palette99::pick(curves).to_rgba();
             let pts: Vec<(f64, f64)> =
                 s.x.iter()
                     .zip(&s.y)
@@ -236,10 +265,33 @@ impl Plot {
                 Style::Points => chart
                     .draw_series(pts.into_iter().map(|p| Circle::new(p, 3, color.filled())))
                     .map_err(|e| err(e.to_string()))?,
+                Style::Thin => chart
+                    .draw_series(LineSeries::new(pts, pale.stroke_width(1)))
+                    .map_err(|e| err(e.to_string()))?,
+                Style::Band => chart
+                    .draw_series(std::iter::once(Polygon::new(pts, color.mix(0.25).filled())))
+                    .map_err(|e| err(e.to_string()))?,
             };
-            anno.label(s.label.clone()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-            });
+            if !matches!(s.style, Style::Thin | Style::Band) {
+                curves += 1;
+            }
+            // unlabelled series (the second branch of a band, further ensemble members) stay
+            // out of the legend
+            if s.label.is_empty() {
+                continue;
+            }
+            let anno = anno.label(s.label.clone());
+            match s.style {
+                Style::Band => anno.legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 20, y + 5)], color.mix(0.25).filled())
+                }),
+                Style::Thin => anno.legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], pale.stroke_width(2))
+                }),
+                _ => anno.legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                }),
+            };
         }
         if self.series.iter().any(|s| !s.label.is_empty()) {
             chart
@@ -311,7 +363,18 @@ mod tests {
                 x.clone(),
                 y.iter().map(|v| 0.5 * v).collect(),
             ))
-            .with(Series::points("pts", x, y))
+            .with(Series::points("pts", x.clone(), y.clone()))
+            .with(Series::thin(
+                "",
+                x.clone(),
+                y.iter().map(|v| 0.8 * v).collect(),
+            ))
+            .with(Series::band(
+                "band",
+                &x,
+                &y.iter().map(|v| v - 0.1).collect::<Vec<_>>(),
+                &y.iter().map(|v| v + 0.1).collect::<Vec<_>>(),
+            ))
             .write(&dir, "sine")
             .unwrap();
         let svg = std::fs::read_to_string(dir.join("sine.svg")).unwrap();

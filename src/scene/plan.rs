@@ -391,10 +391,18 @@ fn plan_discrete(scene: &Scene, stages: &mut Vec<PlannedStage>, d: &mut Derived,
                 Some(k) => stages.push(PlannedStage {
                     stage: Stage::Discrete,
                     why: format!(
-                        "[turf] + [compression]: {} tubes compressed to strain {}{}",
+                        "[turf] + [compression]: {} tubes compressed to strain {}{}{}",
                         t.tube_count(),
                         k.to.0,
-                        if k.unload { " and unloaded" } else { "" }
+                        if k.unload { " and unloaded" } else { "" },
+                        if t.realisations > 1 {
+                            format!(
+                                ", {} realisations (mean and 95 % confidence interval)",
+                                t.realisations
+                            )
+                        } else {
+                            String::new()
+                        }
                     ),
                 }),
                 None => c.bad("turf", "needs [compression] to say how the turf is driven"),

@@ -8,7 +8,8 @@
 //! - discrete: nodes N = Σ tubes (segments + 1), each with its positions, gradients, sparse
 //!   Hessian rows and contacts ([`DISCRETE_BYTES_PER_NODE`]) and its coordinates in the
 //!   checkpoint after every saved step (24 B per node per step); a `[turf]` has
-//!   density × box area tubes of ⌈length/segment⌉ segments;
+//!   density × box area tubes of ⌈length/segment⌉ segments, and an ensemble
+//!   (`turf.realisations`) holds min(realisations, threads) turfs at once;
 //! - halfspace: the dense influence matrix, the bordered Jacobian, its LU factor and the
 //!   previous grid's matrix while remeshing, 4 × 8n² for the n nodes of the finest grid
 //!   ([`crate::halfspace::refinement::estimated_nodes`]);
@@ -224,15 +225,24 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
         let segment = t.tube.segment.map_or(t.growth.length.0 / 20.0, |s| s.0);
         let per_tube = (t.growth.length.0 / segment).ceil().max(2.0);
         let nodes = tubes * (per_tube + 1.0);
-        let bytes = nodes * node_bytes;
-        let detail = format!(
+        // the realisations of an ensemble run one per thread
+        let at_once = t.realisations.min(rayon::current_num_threads()).max(1);
+        let bytes = nodes * node_bytes * at_once as f64;
+        let mut detail = format!(
             "{} tubes (turf.density × turf.box) × {} segments (turf.growth.length / turf.tube.segment)",
             count_text(tubes),
             count_text(per_tube)
         );
+        let mut fewer = "";
+        if at_once > 1 {
+            detail.push_str(&format!(
+                " × {at_once} realisations at once (turf.realisations, one per thread)"
+            ));
+            fewer = ", fewer threads (RAYON_NUM_THREADS)";
+        }
         if over(bytes) {
             let advice = format!(
-                "use a smaller turf.box or turf.density, longer turf.tube.segment{lower_steps}"
+                "use a smaller turf.box or turf.density, longer turf.tube.segment{lower_steps}{fewer}"
             );
             refuse(c, "turf.box".into(), "discrete", bytes, &detail, &advice);
         }

@@ -137,10 +137,53 @@ pub struct Turf {
     /// Tube–tube contact; absent: none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vdw: Option<Vdw>,
+    /// Realisations of the turf, an ensemble: each is generated with its own seed
+    /// (realisation 0 with `scene.seed` itself, realisation k with a seed derived from it,
+    /// [`crate::pipeline::ensemble::realisation_seed`]) and compressed; the discrete stage
+    /// reports their mean and 95 % confidence interval. Default 1 (one turf, as without the
+    /// key), at most [`MAX_REALISATIONS`]. Written into the resolved scene only when above 1,
+    /// so a one-realisation scene resolves (and caches) exactly as before the key existed.
+    #[serde(
+        default = "default_realisations",
+        skip_serializing_if = "is_one",
+        deserialize_with = "realisations_from"
+    )]
+    pub realisations: usize,
 }
+
+/// Most realisations an ensemble may have: the confidence interval narrows as 1/√N, so a
+/// thousand realisations already pin the mean to 3 % of the realisations' scatter; beyond
+/// that, split the work (`--shard`, a `[sweep]`) rather than one stage.
+pub const MAX_REALISATIONS: usize = 1000;
 
 fn default_periodic() -> bool {
     true
+}
+
+fn default_realisations() -> usize {
+    1
+}
+
+fn is_one(n: &usize) -> bool {
+    *n == 1
+}
+
+/// Why a realisation count `value` (as written) is refused, naming what is allowed.
+fn realisations_refused(value: impl std::fmt::Display) -> String {
+    format!(
+        "{value} is not allowed: an ensemble has 1 to {MAX_REALISATIONS} realisations, a whole \
+         number (1 = a single turf, the default)"
+    )
+}
+
+/// `turf.realisations` as written: a whole number from 1 to [`MAX_REALISATIONS`]; anything
+/// else (0, negative, fractional, a string) is refused with what is allowed.
+fn realisations_from<'de, D: serde::Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
+    let v = toml::Value::deserialize(d)?;
+    match v.as_integer() {
+        Some(n) if (1..=MAX_REALISATIONS as i64).contains(&n) => Ok(n as usize),
+        _ => Err(serde::de::Error::custom(realisations_refused(v))),
+    }
 }
 
 impl Turf {
@@ -227,6 +270,9 @@ impl Turf {
         }
         if let Some(v) = &mut self.vdw {
             v.check(c, "turf.vdw");
+        }
+        if !(1..=MAX_REALISATIONS).contains(&self.realisations) {
+            c.bad("turf.realisations", realisations_refused(self.realisations));
         }
         if self.density.0 > 0.0 && self.box_size.iter().all(|b| b.0 > 0.0) {
             let n = self.tube_count();

@@ -13,6 +13,7 @@ mod continuum_hertz;
 mod continuum_homogeneous;
 mod continuum_load_frame;
 mod discrete_compression;
+mod discrete_ensemble;
 mod discrete_peeling;
 mod discrete_rod_cantilever;
 mod discrete_rod_euler;
