@@ -64,4 +64,21 @@ for n in $foams; do
     "$py" "$here/calculix/hyperfoam.py" --per-radius "$n" >> "$out/calculix_hyperfoam_sphere.jsonl"
 done
 
+# 5. LAMMPS MESONT (pair/bond/angle mesocnt) on turf_100x100 scaled to the (10,10) tube
+#    (docs/peers.md "LAMMPS MESONT"): turf writes the scaled turf's nodes, LAMMPS measures its cost
+#    per force evaluation and compresses it by minimisation; turf compresses the same scaled turf.
+#    turf's side runs one 3 % step unless MESONT_FULL=1 (its full 30 % in 10 steps takes far
+#    longer than LAMMPS's today); QUICK=1 also stops LAMMPS at 3 % in one step.
+mesont="$out/mesont"
+"$py" "$here/mesont/scale.py" --out "$mesont" > "$out/mesont_scale.json"
+"$turf" run "$mesont/scaled_geometry.toml" --out "$mesont/turf_geometry" --json > "$mesont/turf_geometry.json"
+if [ -n "${QUICK:-}" ]; then lmp_strain="--to 0.03 --steps 1"; else lmp_strain="--to 0.3 --steps 10"; fi
+OMP_NUM_THREADS=1 "$py" "$here/mesont/compress.py" $lmp_strain --min-style fire \
+    --vtk "$mesont/turf_geometry/vtk/discrete_step_000.vtu" --scene "$mesont/scaled_geometry.toml" \
+    --work "$mesont/lammps" > "$out/lammps_mesont.jsonl"
+if [ -n "${MESONT_FULL:-}" ]; then turf_strain=(); else
+    turf_strain=(--set compression.to=0.03 --set compression.steps=1); fi
+RAYON_NUM_THREADS=1 "$turf" run "$mesont/scaled.toml" "${turf_strain[@]}" --set output.vtk=false \
+    --out "$mesont/turf_scaled" --json > "$out/turf_mesont_scaled.json"
+
 "$py" "$here/compare.py" "$out"

@@ -26,6 +26,7 @@ import argparse
 import ctypes
 import importlib.metadata
 import json
+import math
 import os
 import re
 import sys
@@ -167,12 +168,21 @@ def main():
     ap.add_argument("--work", required=True, help="folder for the data file and the LAMMPS logs")
     ap.add_argument("--to", type=float, default=0.3, help="final strain")
     ap.add_argument("--steps", type=int, default=10, help="strain steps")
+    ap.add_argument("--tube", choices=["scene", "preset"], default="scene",
+                    help="bond/angle coefficients: 'scene' = custom, EA and K of the scene's tube "
+                         "(turf's rod energy, harmonic bending); 'preset' = LAMMPS's (10,10) presets "
+                         "`C 10 10 r0` with --angle mode")
     ap.add_argument("--angle", choices=["buckling", "harmonic"], default="buckling",
-                    help="angle_style mesocnt mode: with kink buckling (MESONT's model) or harmonic only")
+                    help="angle_style mesocnt mode of --tube preset: with kink buckling (MESONT's "
+                         "model of a (10,10) tube) or harmonic only")
     ap.add_argument("--min-style", default="cg", help="LAMMPS min_style (cg, fire, sd, ...)")
+    ap.add_argument("--line", default="quadratic", help="min_modify line (quadratic, backtrack, forcezero)")
     ap.add_argument("--ftol", type=float, default=1e-3,
                     help="largest force component at equilibrium, nN (turf's compression.tolerance)")
-    ap.add_argument("--maxiter", type=int, default=100000)
+    ap.add_argument("--timestep", type=float, default=0.001,
+                    help="FIRE's initial timestep, ps (unit node masses)")
+    ap.add_argument("--maxiter", type=int, default=100000, help="minimizer iterations per strain step")
+    ap.add_argument("--maxiter-relax", type=int, help="minimizer iterations of the relaxation (default --maxiter)")
     ap.add_argument("--neigh-cutoff", type=float, default=30.0, help="pair_style mesocnt neighbour cutoff, Å")
     ap.add_argument("--wall-stiffness", type=float, default=100.0,
                     help="platen and substrate penalty k, nN/nm (E = k/2 d²)")
@@ -185,7 +195,22 @@ def main():
 
     scene = tomllib.loads(Path(a.scene).read_text())
     box_nm = [float(b.split()[0]) for b in scene["turf"]["box"]]
-    r_nm = float(scene["turf"]["tube"]["r_o"].split()[0])
+    tube = scene["turf"]["tube"]
+    r_nm = float(tube["r_o"].split()[0])
+    r_i_nm = float(tube["r_i"].split()[0])
+    y_gpa = float(tube["youngs"].split()[0])
+    assert tube["youngs"].split()[1] == "GPa" and tube["r_o"].split()[1] == "nm"
+    ea_nn = y_gpa * math.pi * (r_nm**2 - r_i_nm**2)
+    k_nn_nm2 = y_gpa * math.pi / 4 * (r_nm**4 - r_i_nm**4)
+    if a.tube == "scene":
+        # turf's rod: EA/(2ℓ)(|e| − ℓ)² and K/(ℓ₁ + ℓ₂)|κb|², |κb| = 2 tan(Δθ/2) ≈ Δθ
+        ea_ev_a = ea_nn / EV_PER_ANG_IN_NN
+        k_ev_a = k_nn_nm2 / EV_PER_ANG_IN_NN / 10.0  # nN·nm² = 0.0624 eV·Å
+        bond = lambda r0: f"custom {ea_ev_a / (2 * r0):.10g} {r0:.10f}"
+        angle = lambda r0: f"harmonic custom {k_ev_a / (2 * r0):.10g}"
+    else:
+        bond = lambda r0: f"C 10 10 {r0:.10f}"
+        angle = lambda r0: f"{a.angle} C 10 10 {r0:.10f}"
     points, tubes, _ = read_vtk(a.vtk)
     nodes = len(points)
     work = Path(a.work)
@@ -210,9 +235,9 @@ def main():
         "newton on",
         f"read_data {data}",
         "bond_style mesocnt",
-        *(f"bond_coeff {t} C 10 10 {r0:.10f}" for t, r0 in enumerate(r0s, start=1)),
+        *(f"bond_coeff {t} {bond(r0)}" for t, r0 in enumerate(r0s, start=1)),
         "angle_style mesocnt",
-        *(f"angle_coeff {t} {a.angle} C 10 10 {r0:.10f}" for t, r0 in enumerate(r0s, start=1)),
+        *(f"angle_coeff {t} {angle(r0)}" for t, r0 in enumerate(r0s, start=1)),
         f"pair_style mesocnt {a.neigh_cutoff} chain",
         f"pair_coeff * * {table} 2",
         "neighbor 2.0 bin",
@@ -222,13 +247,15 @@ def main():
         "fix clamp base setforce 0.0 0.0 0.0",
         f"fix substrate free wall/harmonic zlo 0.0 {eps:.10g} 1.0 {r_ang:.10f}",
         "fix_modify substrate energy yes",
+        "variable ztop equal bound(all,zmax)",
         "compute ebond all pe bond",
         "compute eangle all pe angle",
         "compute epair all pe pair",
         "thermo_style custom step pe c_ebond c_eangle c_epair fmax fnorm",
-        "thermo 1000",
+        "thermo 500",
+        "thermo_modify flush yes",
         f"min_style {a.min_style}",
-        "min_modify norm max",
+        "min_modify norm max" + (f" line {a.line}" if a.min_style in ("cg", "sd", "hftn") else ""),
     ]:
         cmd(line)
 
@@ -261,11 +288,12 @@ def main():
             "share_neigh": r.get("share_neigh"),
         }
 
-    def minimize(label):
+    def minimize(label, maxiter):
         log = work / f"log.min_{label}.lammps"
         cmd(f"log {log}")
+        cmd(f"timestep {a.timestep}")  # used by FIRE only (cost() sets a tiny one)
         t0 = time.perf_counter()
-        cmd(f"minimize 0.0 {ftol:.10g} {a.maxiter} {10 * a.maxiter}")
+        cmd(f"minimize 0.0 {ftol:.10g} {maxiter} {10 * maxiter}")
         wall = time.perf_counter() - t0
         r = parse_log(log)
         r["wall_s"] = wall
@@ -273,9 +301,7 @@ def main():
 
     def height():
         """max over the nodes of z + R, nm (turf's turf height; the clamped base is never the top)."""
-        x = lmp.numpy.extract_atom("x")
-        nloc = lmp.extract_global("nlocal")
-        return (float(x[:nloc, 2].max()) + r_ang) / 10.0
+        return (lmp.extract_variable("ztop") + r_ang) / 10.0
 
     out = {
         "peer": "lammps-mesont",
@@ -285,9 +311,14 @@ def main():
         "segments": nodes - len(tubes),
         "box_nm": box_nm,
         "radius_nm": r_nm,
-        "angle_mode": a.angle,
+        "tube": a.tube,
+        "axial_stiffness_nN": ea_nn if a.tube == "scene" else None,
+        "bending_stiffness_nN_nm2": k_nn_nm2 if a.tube == "scene" else None,
+        "angle_mode": "harmonic" if a.tube == "scene" else a.angle,
         "min_style": a.min_style,
         "ftol_max_component_nN": a.ftol,
+        "maxiter_step": a.maxiter,
+        "maxiter_relax": a.maxiter_relax or a.maxiter,
         "neigh_cutoff_A": a.neigh_cutoff,
         "mpi_ranks": 1,
         "omp_threads": int(os.environ.get("OMP_NUM_THREADS", "0")),
@@ -301,12 +332,16 @@ def main():
         print(json.dumps(out))
         return
 
-    relax = minimize("relax")
+    relax = minimize("relax", a.maxiter_relax or a.maxiter)
     out["relaxation"] = relax
     out["relaxed"] = energies()
     print(f"relaxed: {relax}", file=sys.stderr)
     out["cost"].append(cost("relaxed"))
 
+    if a.steps == 0:
+        out["total_wall_s"] = time.perf_counter() - t_start
+        print(json.dumps(out))
+        return
     h0 = height()
     out["height_nm"] = h0
     cmd(f"variable zp equal {10 * h0:.10f}")
@@ -316,7 +351,7 @@ def main():
     for k in range(1, a.steps + 1):
         strain = a.to * k / a.steps
         cmd(f"variable zp equal {10 * h0 * (1 - strain):.10f}")
-        r = minimize(f"step{k:02d}")
+        r = minimize(f"step{k:02d}", a.maxiter)
         e = energies()
         force = abs(lmp.extract_fix("platen", 0, 1, 0)) * EV_PER_ANG_IN_NN  # nN
         rec = {"step": k, "strain": strain, "stress_GPa": force / area_nm2, "platen_force_nN": force, **r, **e}

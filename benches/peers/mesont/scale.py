@@ -91,6 +91,10 @@ def main():
     ap.add_argument("--out", required=True, help="folder for the scaled scenes")
     ap.add_argument("--to", type=float, help="compression strain of scaled.toml (default: the scene's)")
     ap.add_argument("--steps", type=int, help="compression steps of scaled.toml (default: the scene's)")
+    ap.add_argument("--tube", choices=["matched", "10,10"], default="matched",
+                    help="stiffness of the scaled tubes: 'matched' keeps the scene's bending/adhesion "
+                         "group K/(γ_L L²) (and r_i = 0.9 R), '10,10' is the (10,10) tube of "
+                         "LAMMPS's bond/angle mesocnt presets")
     a = ap.parse_args()
 
     scene = tomllib.loads(Path(a.scene).read_text())
@@ -106,10 +110,24 @@ def main():
     gamma_line = -u_min * EV / 1e-10 * 1e9  # eV/Å -> nN
     cut_gap = 3 * sigma_ang / 10.0  # the potential's reach beyond contact, nm (rc = 3 sigma)
 
-    r_preset, ea, k_bend = tube_10_10()
-    # a hollow cylinder of outer radius R with EA and K of the presets:
-    # K/EA = (R² + r_i²)/4 -> r_i, then Y = EA / (π (R² − r_i²))
-    r_i = math.sqrt(4 * k_bend / ea - radius**2)
+    r_preset, ea_preset, k_preset = tube_10_10()
+    y_o = float(tube["youngs"].split()[0]) * {"TPa": 1e3, "GPa": 1.0}[tube["youngs"].split()[1]]
+    r_i_o = parse_length_nm(tube["r_i"])
+    k_scene = y_o * math.pi / 4 * (r_o**4 - r_i_o**4)
+    gamma_scene = float(t["vdw"]["gamma_line"].split()[0])
+    assert t["vdw"]["gamma_line"].split()[1] == "nN"
+    if a.tube == "10,10":
+        # a hollow cylinder of outer radius R with EA and K of the presets:
+        # K/EA = (R² + r_i²)/4 -> r_i, then Y = EA / (π (R² − r_i²))
+        k_bend, ea = k_preset, ea_preset
+        r_i = math.sqrt(4 * k_bend / ea - radius**2)
+    else:
+        # K/(γ_L L²) as in the scene: K' = K γ_L'/γ_L s²; a hollow cylinder of outer radius R
+        # cannot also keep EA L²/K (it would need K'/EA' = s² K/EA > R²/2), so r_i = 0.9 R and
+        # EA' follows (EA L²/K is 1.5× the scene's, both > 10⁴: the tubes are inextensible)
+        k_bend = k_scene * gamma_line / gamma_scene * s**2
+        r_i = 0.9 * radius
+        ea = 4 * k_bend / (radius**2 + r_i**2)
     youngs_gpa = ea / (math.pi * (radius**2 - r_i**2))
 
     box = [parse_length_nm(b) * s for b in t["box"]]
@@ -187,6 +205,13 @@ def main():
         "tubes": round(density_nm2 * box[0] * box[1]),
         "segment_nm": segment,
         "length_nm": length,
+        "tube": a.tube,
+        "bending_stiffness_scene_nN_nm2": k_scene,
+        "gamma_line_scene_nN": gamma_scene,
+        "bending_adhesion_group_scene": k_scene / (gamma_scene * parse_length_nm(growth["length"]) ** 2),
+        "bending_adhesion_group_scaled": k_bend / (gamma_line * length**2),
+        "axial_stiffness_preset_nN": ea_preset,
+        "bending_stiffness_preset_nN_nm2": k_preset,
         "axial_stiffness_nN": ea,
         "bending_stiffness_nN_nm2": k_bend,
         "r_inner_equivalent_nm": r_i,
