@@ -73,7 +73,7 @@ mesont="$out/mesont"
 "$py" "$here/mesont/scale.py" --out "$mesont" > "$out/mesont_scale.json"
 "$turf" run "$mesont/scaled_geometry.toml" --out "$mesont/turf_geometry" --json > "$mesont/turf_geometry.json"
 if [ -n "${QUICK:-}" ]; then lmp_strain="--to 0.03 --steps 1"; else lmp_strain="--to 0.3 --steps 10"; fi
-OMP_NUM_THREADS=1 "$py" "$here/mesont/compress.py" $lmp_strain --min-style fire \
+OMP_NUM_THREADS=1 "$py" "$here/mesont/compress.py" $lmp_strain --maxiter-relax 3000 --maxiter 500 \
     --vtk "$mesont/turf_geometry/vtk/discrete_step_000.vtu" --scene "$mesont/scaled_geometry.toml" \
     --work "$mesont/lammps" > "$out/lammps_mesont.jsonl"
 if [ -n "${MESONT_FULL:-}" ]; then turf_strain=(); else

@@ -11,7 +11,7 @@ end nodes of type 2 as pair_style mesocnt requires) and runs, on 1 MPI rank and 
    per evaluation and the Pair/Bond shares of LAMMPS's own timing breakdown;
 2. compression: relaxation by `minimize` with the base clamped (fix setforce 0 on the first two
    nodes of every tube, as turf clamps them) and the substrate a wall at z = 0; then the flat
-   platen (fix wall/harmonic at zhi, acting on node z + R like turf's platen) moved down to
+   platen (fix indent plane: turf's cubic penalty on node z + R above the platen) moved down to
    strain `--to` in `--steps` equal steps from the relaxed height h0 = max(z) + R, a `minimize` at
    each step; stress = platen force / box area.
 
@@ -184,8 +184,9 @@ def main():
     ap.add_argument("--maxiter", type=int, default=100000, help="minimizer iterations per strain step")
     ap.add_argument("--maxiter-relax", type=int, help="minimizer iterations of the relaxation (default --maxiter)")
     ap.add_argument("--neigh-cutoff", type=float, default=30.0, help="pair_style mesocnt neighbour cutoff, Å")
-    ap.add_argument("--wall-stiffness", type=float, default=100.0,
-                    help="platen and substrate penalty k, nN/nm (E = k/2 d²)")
+    ap.add_argument("--wall-stiffness", type=float, default=1.0e3,
+                    help="platen and substrate penalty κ, nN/nm³ (E = κ d³/3 as turf's walls, "
+                         "src/discrete/platen.rs)")
     ap.add_argument("--cost-steps", type=int, default=200, help="force evaluations per cost measurement")
     ap.add_argument("--cost-only", action="store_true", help="measure the cost of the generated turf only")
     a = ap.parse_args()
@@ -221,7 +222,7 @@ def main():
     r0s, base = write_data(data, points, tubes, box_nm, z_max + 4 * r_ang + 20.0)
     area_nm2 = box_nm[0] * box_nm[1]
     ftol = a.ftol / EV_PER_ANG_IN_NN  # eV/Å
-    eps = 0.5 * a.wall_stiffness / 16.02176634  # eV/Å² (1 eV/Å² = 16.02 nN/nm)
+    kappa = a.wall_stiffness / EV_PER_ANG_IN_NN / 100.0  # nN/nm³ -> eV/Å³
 
     lmp = lammps(cmdargs=["-screen", "none", "-log", str(work / "log.setup.lammps"), "-nocite"])
     cmd = lmp.command
@@ -245,7 +246,9 @@ def main():
         f"group base id {' '.join(str(i) for i in base)}",
         "group free subtract all base",
         "fix clamp base setforce 0.0 0.0 0.0",
-        f"fix substrate free wall/harmonic zlo 0.0 {eps:.10g} 1.0 {r_ang:.10f}",
+        # fix indent plane: F = −κ d² on atoms d past the plane, E = κ d³/3 (turf's penalty);
+        # the plane sits R inside the wall so that it acts on z ∓ R as turf's walls do
+        f"fix substrate free indent {kappa:.10g} plane z {r_ang:.10f} lo",
         "fix_modify substrate energy yes",
         "variable ztop equal bound(all,zmax)",
         "compute ebond all pe bond",
@@ -344,16 +347,16 @@ def main():
         return
     h0 = height()
     out["height_nm"] = h0
-    cmd(f"variable zp equal {10 * h0:.10f}")
-    cmd(f"fix platen free wall/harmonic zhi v_zp {eps:.10g} 1.0 {r_ang:.10f}")
+    cmd(f"variable zp equal {10 * h0 - r_ang:.10f}")
+    cmd(f"fix platen free indent {kappa:.10g} plane z v_zp hi")
     cmd("fix_modify platen energy yes")
     steps = []
     for k in range(1, a.steps + 1):
         strain = a.to * k / a.steps
-        cmd(f"variable zp equal {10 * h0 * (1 - strain):.10f}")
+        cmd(f"variable zp equal {10 * h0 * (1 - strain) - r_ang:.10f}")
         r = minimize(f"step{k:02d}", a.maxiter)
         e = energies()
-        force = abs(lmp.extract_fix("platen", 0, 1, 0)) * EV_PER_ANG_IN_NN  # nN
+        force = abs(lmp.extract_fix("platen", 0, 1, 2)) * EV_PER_ANG_IN_NN  # nN, z component
         rec = {"step": k, "strain": strain, "stress_GPa": force / area_nm2, "platen_force_nN": force, **r, **e}
         steps.append(rec)
         print(f"step {k}: strain {strain:.3f} stress {rec['stress_GPa']:.4e} GPa, "
