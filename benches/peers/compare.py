@@ -135,15 +135,19 @@ def mesont_rows(out):
         f"σ = {sig_turf * 1e3:.4g} MPa at ε = {eps_turf:.2f}", f"{wall_turf:.1f}", "1",
     ))
     for p in lines(out / "lammps_mesont.jsonl"):
-        steps = p.get("steps", [])
+        # LAMMPS up to turf's last strain: relaxation + those steps, and the largest force left
+        upto = [s for s in p.get("steps", []) if s["strain"] <= eps_turf + 1e-9]
+        its = p["relaxation"]["iterations"] + sum(s.get("iterations", 0) for s in upto)
+        wall = p["relaxation"]["wall_s"] + sum(s["wall_s"] for s in upto)
         cost = {c["state"]: c["us_per_node_evaluation"] for c in p["cost"]}
-        its = p["relaxation"]["iterations"] + p.get("compression_iterations", 0)
-        wall = p["relaxation"]["wall_s"] + p.get("compression_wall_s", 0.0)
-        at = next((s for s in steps if abs(s["strain"] - eps_turf) < 1e-9), None)
-        answer = (f"σ = {at['stress_GPa'] * 1e3:.4g} MPa at ε = {eps_turf:.2f}; " if at else "") + (
-            f"{steps[-1]['stress_GPa'] * 1e3:.4g} MPa at ε = {steps[-1]['strain']:.2f}" if steps else "")
+        fmax = max([p["relaxation"].get("force_max_final_nN", 0.0)] + [s.get("force_max_final_nN", 0.0) for s in upto])
+        failed = [s["strain"] for s in p.get("steps", []) if "alpha is zero" in s.get("stop", "")]
+        answer = (f"σ = {upto[-1]['stress_GPa'] * 1e3:.4g} MPa at ε = {upto[-1]['strain']:.2f}" if upto else "—") + (
+            f"; largest force left {fmax:.2g} nN (tolerance {p['ftol_max_component_nN']:g})")
+        if failed:
+            answer += f"; line search failed from ε = {min(failed):.2f}"
         rows.append((
-            "", f"LAMMPS MESONT {p['min_style']} ({its} iterations, "
+            "", f"LAMMPS MESONT {p['min_style']} to ε = {eps_turf:.2f} ({its} iterations; "
             + ", ".join(f"{k} {c:.2f}" for k, c in cost.items()) + " µs per node-evaluation)",
             answer, f"{wall:.1f}", f"{wall / wall_turf:.2f}",
         ))
