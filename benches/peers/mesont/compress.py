@@ -168,6 +168,8 @@ def main():
     ap.add_argument("--work", required=True, help="folder for the data file and the LAMMPS logs")
     ap.add_argument("--to", type=float, default=0.3, help="final strain")
     ap.add_argument("--steps", type=int, default=10, help="strain steps")
+    ap.add_argument("--substeps", type=int, default=1,
+                    help="platen moves (each followed by a minimisation of --maxiter) per strain step")
     ap.add_argument("--tube", choices=["scene", "preset"], default="scene",
                     help="bond/angle coefficients: 'scene' = custom, EA and K of the scene's tube "
                          "(turf's rod energy, harmonic bending); 'preset' = LAMMPS's (10,10) presets "
@@ -321,6 +323,7 @@ def main():
         "min_style": a.min_style,
         "ftol_max_component_nN": a.ftol,
         "maxiter_step": a.maxiter,
+        "substeps": a.substeps,
         "maxiter_relax": a.maxiter_relax or a.maxiter,
         "neigh_cutoff_A": a.neigh_cutoff,
         "mpi_ranks": 1,
@@ -353,8 +356,16 @@ def main():
     steps = []
     for k in range(1, a.steps + 1):
         strain = a.to * k / a.steps
-        cmd(f"variable zp equal {10 * h0 * (1 - strain) - r_ang:.10f}")
-        r = minimize(f"step{k:02d}", a.maxiter)
+        prev = a.to * (k - 1) / a.steps
+        subs = []
+        for j in range(1, a.substeps + 1):
+            eps_j = prev + (strain - prev) * j / a.substeps
+            cmd(f"variable zp equal {10 * h0 * (1 - eps_j) - r_ang:.10f}")
+            subs.append(minimize(f"step{k:02d}" + (f"_{j:02d}" if a.substeps > 1 else ""), a.maxiter))
+        r = dict(subs[-1])
+        for key in ("iterations", "force_evaluations", "wall_s", "loop_s"):
+            r[key] = sum(x.get(key, 0) for x in subs)
+        r["stops"] = [x.get("stop") for x in subs]
         e = energies()
         force = abs(lmp.extract_fix("platen", 0, 1, 2)) * EV_PER_ANG_IN_NN  # nN, z component
         rec = {"step": k, "strain": strain, "stress_GPa": force / area_nm2, "platen_force_nN": force, **r, **e}
