@@ -15,9 +15,10 @@ end nodes of type 2 as pair_style mesocnt requires) and runs, on 1 MPI rank and 
    strain `--to` in `--steps` equal steps from the relaxed height h0 = max(z) + R, a `minimize` at
    each step; stress = platen force / box area.
 
-Force field: bond_style mesocnt `C 10 10 r0`, angle_style mesocnt `<mode> C 10 10 r0` (one bond
-and one angle type per tube, r0 its segment length), pair_style mesocnt chain, the shipped
-C_10_10.mesocnt table. Units metal (Å, eV); reported in nm, nN, GPa.
+Force field: pair_style mesocnt chain with the shipped C_10_10.mesocnt table; bond_style and
+angle_style mesocnt with one type per tube (r0 its segment length), either `custom` coefficients
+from the scene's tube (EA, K: turf's rod energy, harmonic bending; the default) or the (10,10)
+presets `C 10 10 r0` (`--tube preset`). Units metal (Å, eV); reported in nm, nN, GPa.
 
 Prints one JSON line.
 """
