@@ -114,7 +114,48 @@ def hyperfoam_rows(out):
     return rows
 
 
-SECTIONS = {"cantilever": cantilever_rows, "halfspace": halfspace_rows, "hertz": hertz_rows, "hyperfoam": hyperfoam_rows}
+def mesont_rows(out):
+    """turf_100x100 scaled to MESONT's (10,10) tube: turf (Newton) vs LAMMPS MESONT (minimize).
+    The error column carries the stress at the last strain both reached and the iterations."""
+    rows = []
+    run = json.loads((out / "turf_mesont_scaled.json").read_text())
+    st = run["stages"][0]
+    v = st["values"]
+    nodes = v["segments"] + v["tubes"]
+    its_turf = v["relaxation_iterations"] + v["compression_iterations"]
+    wall_turf = v["wall_time_relaxation_s"] + v["wall_time_compression_s"]
+    csv = (out / "mesont" / "turf_scaled" / "stress_strain.csv").read_text().splitlines()
+    head = csv[0].split(",")
+    last = csv[-1].split(",")
+    eps_turf, sig_turf = float(last[head.index("strain")]), float(last[head.index("stress_GPa")])
+    first = f"turf_100x100 scaled to (10,10), {nodes:.0f} nodes, straight"
+    rows.append((
+        first, f"turf Newton: relax + compression to {eps_turf:.2f} ({its_turf:.0f} iterations, "
+        f"{1e6 * wall_turf / max(its_turf, 1) / nodes:.1f} µs per node-iteration)",
+        f"σ = {sig_turf * 1e3:.4g} MPa at ε = {eps_turf:.2f}", f"{wall_turf:.1f}", "1",
+    ))
+    for p in lines(out / "lammps_mesont.jsonl"):
+        # LAMMPS up to turf's last strain: relaxation + those steps, and the largest force left
+        upto = [s for s in p.get("steps", []) if s["strain"] <= eps_turf + 1e-9]
+        its = p["relaxation"]["iterations"] + sum(s.get("iterations", 0) for s in upto)
+        wall = p["relaxation"]["wall_s"] + sum(s["wall_s"] for s in upto)
+        cost = {c["state"]: c["us_per_node_evaluation"] for c in p["cost"]}
+        fmax = max([p["relaxation"].get("force_max_final_nN", 0.0)] + [s.get("force_max_final_nN", 0.0) for s in upto])
+        failed = [s["strain"] for s in p.get("steps", []) if "alpha is zero" in s.get("stop", "")]
+        answer = (f"σ = {upto[-1]['stress_GPa'] * 1e3:.4g} MPa at ε = {upto[-1]['strain']:.2f}" if upto else "—") + (
+            f"; largest force left {fmax:.2g} nN (tolerance {p['ftol_max_component_nN']:g})")
+        if failed:
+            answer += f"; line search failed from ε = {min(failed):.2f}"
+        rows.append((
+            "", f"LAMMPS MESONT {p['min_style']} to ε = {eps_turf:.2f} ({its} iterations; "
+            + ", ".join(f"{k} {c:.2f}" for k, c in cost.items()) + " µs per node-evaluation)",
+            answer, f"{wall:.1f}", f"{wall / wall_turf:.2f}",
+        ))
+    return rows
+
+
+SECTIONS = {"cantilever": cantilever_rows, "halfspace": halfspace_rows, "hertz": hertz_rows, "hyperfoam": hyperfoam_rows,
+            "mesont": mesont_rows}
 
 
 def main(out, names):

@@ -13,10 +13,8 @@ root="$(cd "$here/../.." && pwd)"
 venv="$here/.venv"
 out="$here/results"
 mkdir -p "$out"
-if [ ! -x "$venv/bin/python" ]; then
-    python3 -m venv "$venv"
-    "$venv/bin/pip" install -q -r "$here/requirements.txt"
-fi
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/pip" install -q -r "$here/requirements.txt"   # a no-op when the pins are installed
 py="$venv/bin/python"
 (cd "$root" && cargo build --release --locked -q)
 turf="$root/target/release/turf"
@@ -63,5 +61,24 @@ if [ -n "${QUICK:-}" ]; then foams="10"; else foams="10 20"; fi
 for n in $foams; do
     "$py" "$here/calculix/hyperfoam.py" --per-radius "$n" >> "$out/calculix_hyperfoam_sphere.jsonl"
 done
+
+# 5. LAMMPS MESONT (pair/bond/angle mesocnt) on turf_100x100 scaled to the (10,10) tube
+#    (docs/peers.md "LAMMPS MESONT"): turf writes the scaled turf's nodes, LAMMPS measures its cost
+#    per force evaluation and compresses it by minimisation; turf compresses the same scaled turf.
+#    turf's side runs one 3 % step unless MESONT_FULL=1 (the full 30 % in 10 steps; turf's
+#    Newton took about an hour on the original 100 x 100 turf, docs/benchmarks.md); QUICK=1 also
+#    stops LAMMPS at 3 % in one step.
+mesont="$out/mesont"
+"$py" "$here/mesont/scale.py" --out "$mesont" > "$out/mesont_scale.json"
+"$turf" run "$mesont/scaled_geometry.toml" --out "$mesont/turf_geometry" --json > "$mesont/turf_geometry.json"
+if [ -n "${QUICK:-}" ]; then lmp_run="--to 0.03 --steps 1 --maxiter-relax 3000 --maxiter 500"
+else lmp_run="--to 0.3 --steps 10 --maxiter-relax 10000 --maxiter 3000"; fi
+OMP_NUM_THREADS=1 "$py" "$here/mesont/compress.py" $lmp_run --line forcezero \
+    --vtk "$mesont/turf_geometry/vtk/discrete_step_000.vtu" --scene "$mesont/scaled_geometry.toml" \
+    --work "$mesont/lammps" > "$out/lammps_mesont.jsonl"
+if [ -n "${MESONT_FULL:-}" ]; then turf_strain=(); else
+    turf_strain=(--set compression.to=0.03 --set compression.steps=1); fi
+RAYON_NUM_THREADS=1 "$turf" run "$mesont/scaled.toml" "${turf_strain[@]}" --set output.vtk=false \
+    --out "$mesont/turf_scaled" --json > "$out/turf_mesont_scaled.json"
 
 "$py" "$here/compare.py" "$out"
