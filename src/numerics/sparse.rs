@@ -393,6 +393,36 @@ mod tests {
     }
 
     #[test]
+    fn new_positions_for_the_same_or_another_pattern_solve_correctly() {
+        let n = 50;
+        let (pos, val) = laplacian(n);
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut sys = SparseSystem::new(n, &pos).unwrap();
+        sys.solve_spd(&val, &b).unwrap();
+        // the same entries listed backwards: same compressed pattern, new slots
+        let (rpos, rval): (Vec<_>, Vec<_>) = pos.iter().zip(&val).rev().unzip();
+        sys.set_positions(&rpos).unwrap();
+        let x = sys.solve_spd(&rval, &b).unwrap();
+        assert!(residual(&rpos, &rval, &x, &b) < 1e-9);
+        // one more off-diagonal pair: another pattern
+        let (mut mpos, mut mval) = (pos.clone(), val.clone());
+        mpos.extend([(0, n - 1), (n - 1, 0)]);
+        mval.extend([-0.1, -0.1]);
+        sys.set_positions(&mpos).unwrap();
+        let y = sys.solve_spd(&mval, &b).unwrap();
+        assert!(residual(&mpos, &mval, &y, &b) < 1e-9);
+        // values given for the old pattern are refused, not misread
+        assert!(matches!(
+            sys.solve_spd(&val, &b),
+            Err(SparseError::Length { .. })
+        ));
+        assert!(matches!(
+            sys.set_positions(&[(n, 0)]),
+            Err(SparseError::Pattern(_))
+        ));
+    }
+
+    #[test]
     fn indefinite_saddle_point_needs_lu() {
         // [[2, 1], [1, 0]] is indefinite.
         let pos = vec![(0, 0), (0, 1), (1, 0), (1, 1)];
