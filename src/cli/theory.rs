@@ -13,7 +13,7 @@ use turf::laws::{LennardJones, LjKind, SurfaceLaw};
 use turf::report::csv::Table;
 use turf::report::plot::{Plot, Series};
 use turf::theory::indentation_law::{Rheology, Segment};
-use turf::theory::micromech::Segments;
+use turf::theory::micromech::{Segments, ShapeFactor};
 use turf::theory::thermal::Cantilever;
 use turf::theory::{self, dmt, hertz, jkr, positive, tabor, Control, Model, Sphere};
 use turf::units::{parse_quantity, Dimension};
@@ -541,10 +541,17 @@ fn micromech(a: &MicromechArgs) -> anyhow::Result<Value> {
             )?,
         )?;
     let theta = quantity("theta", &a.theta, Dimension::Dimensionless)?;
+    // the arc's form is given beside the printed one, or the reason it has no value here
+    let arc = |v: Result<f64, theory::TheoryError>| match v {
+        Ok(v) => json!(v),
+        Err(e) => json!(e.to_string()),
+    };
     Ok(json!({
         "phi": seg.phi(),
-        "f_theta": theory::micromech::shape_factor(theta, seg.phi())?,
-        "stress_GPa": seg.stress(kappa, theta)?,
+        "f_theta": ShapeFactor::Printed.value(theta, seg.phi())?,
+        "stress_GPa": seg.stress(kappa, theta, ShapeFactor::Printed)?,
+        "f_theta_arc": arc(ShapeFactor::Arc.value(theta, seg.phi())),
+        "stress_arc_GPa": arc(seg.stress(kappa, theta, ShapeFactor::Arc)),
         "energy_density_GPa": seg.energy_density(kappa),
     }))
 }

@@ -87,9 +87,14 @@ impl CurveAnalysis {
         }
     }
 
-    /// Threshold stress σ₀ = E⁰ε₀ of the fitted (5.1), GPa (see the module doc).
+    /// Threshold stress σ₀ = E⁰ε₀ of the fitted (5.1), GPa (see the module doc); `None` without
+    /// a fit or when the fit's constants give no finite product.
     pub fn threshold_stress(&self) -> Option<f64> {
-        self.fit.as_ref().ok().map(|f| f.law.e0 * f.law.eps0)
+        self.fit
+            .as_ref()
+            .ok()
+            .map(|f| f.law.e0 * f.law.eps0)
+            .filter(|s| s.is_finite())
     }
 
     /// Fraction of the loading work not recovered on unloading, (W − W_u)/W.

@@ -21,6 +21,7 @@ pub mod rod_problems;
 pub mod solve;
 pub mod solve_fire;
 pub mod solve_newton;
+pub mod structure;
 pub mod turf;
 pub mod vdw;
 pub mod vdw_term;

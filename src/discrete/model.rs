@@ -12,6 +12,7 @@ use super::rod::{Rod, RodError, RodSet, RodStiffness};
 use super::solve::{Info, SolveError};
 use super::solve_fire::{minimize_fire, FireParams};
 use super::solve_newton::{minimize_newton, NewtonParams};
+use super::structure::{self, Structure};
 use super::turf::{EnergyBalance, Turf};
 use super::vdw::{VdwError, VdwParams};
 use super::vdw_term::VdwTerm;
@@ -275,6 +276,22 @@ impl TurfSystem {
             platen_force,
             platen_nodes,
         }
+    }
+
+    /// The structure at `x` in the micromechanics' terms — contact patches within `gap` (nm),
+    /// the free segments between them — over the volume of the box up to the turf's top;
+    /// `None` without a tube–tube interaction (brings the neighbour list up to date).
+    pub fn structure(&mut self, x: &[f64], gap: f64) -> Option<Structure> {
+        self.model.prepare(x);
+        let volume = self.area * self.height(x);
+        let vdw = self.model.vdw.as_ref()?;
+        Some(structure::measure(
+            &self.model.rods,
+            &vdw.pair_geometry(x),
+            x,
+            gap,
+            volume,
+        ))
     }
 
     /// Total energy at `x`, aJ (brings the neighbour list up to date).

@@ -209,13 +209,17 @@ impl Rod {
                     .0
             })
             .sum();
-        let bend = (1..self.segments())
+        (stretch, self.vertex_bending(x).iter().sum())
+    }
+
+    /// The bending energy of each interior vertex 1 … n − 1 (aJ), in vertex order.
+    pub fn vertex_bending(&self, x: &[f64]) -> Vec<f64> {
+        (1..self.segments())
             .map(|i| {
                 let (e, f) = (self.edge(x, i - 1), self.edge(x, i));
                 bend_vertex_gradient(&e, &f, &self.natural[i - 1], self.bend_weight(i)).0
             })
-            .sum();
-        (stretch, bend)
+            .collect()
     }
 
     /// Energy (aJ) with the gradient (nN) added into `grad`, which holds this rod's nodes only

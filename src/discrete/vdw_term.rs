@@ -29,6 +29,21 @@ pub struct TubeLayout {
     pub radius: f64,
 }
 
+/// One listed segment pair as geometry: segment indices (in tube order, each tube's segments
+/// consecutive), axis end points (nm; `b` at the periodic image the pair refers to) and the sum
+/// of the outer radii (nm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairGeometry {
+    /// the two segment indices
+    pub segments: [usize; 2],
+    /// first segment's axis ends
+    pub a: [Vector; 2],
+    /// second segment's axis ends, at its periodic image
+    pub b: [Vector; 2],
+    /// r_a + r_b, nm
+    pub r_sum: f64,
+}
+
 /// Per-segment data fixed at set-up.
 #[derive(Debug, Clone, Copy)]
 struct SegmentInfo {
@@ -170,6 +185,30 @@ impl VdwTerm {
     /// Number of quadrature panels of each segment.
     pub fn panels(&self) -> Vec<usize> {
         self.exclusion.info.iter().map(|s| s.panels).collect()
+    }
+
+    /// Every listed pair's two segment axes at `x` (nm), the second at its periodic image, with
+    /// the sum of the tubes' outer radii: the geometry the contact statistics of
+    /// [`super::structure`] read. Call after `prepare(x)` so that the list is current.
+    pub fn pair_geometry(&self, x: &[f64]) -> Vec<PairGeometry> {
+        let segs = self.broadphase.segments();
+        let pbox = self.broadphase.periodic_box();
+        let ends = |i: usize, off: Vector| {
+            let v = |n: usize| Vector::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]) + off;
+            [v(segs.nodes[i][0]), v(segs.nodes[i][1])]
+        };
+        self.pairs()
+            .iter()
+            .map(|p| {
+                let (a, b) = (p.a as usize, p.b as usize);
+                PairGeometry {
+                    segments: [a, b],
+                    a: ends(a, Vector::ZERO),
+                    b: ends(b, pbox.offset(p.shift)),
+                    r_sum: self.exclusion.info[a].radius + self.exclusion.info[b].radius,
+                }
+            })
+            .collect()
     }
 
     /// Evaluate every listed pair at `x` (in parallel, results in pair order).

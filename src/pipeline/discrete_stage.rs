@@ -37,6 +37,7 @@ use crate::discrete::platen::{Shape, DEFAULT_WALL_STIFFNESS};
 use crate::discrete::rod::RodStiffness;
 use crate::discrete::solve_fire::FireParams;
 use crate::discrete::solve_newton::{is_local_minimum, minimize_newton, NewtonParams};
+use crate::discrete::structure::Structure;
 use crate::discrete::turf::{generate_turf, TurfParams};
 use crate::discrete::vdw::VdwParams;
 use crate::discrete::vdw_term::TubeLayout;
@@ -47,6 +48,7 @@ use crate::report::{write_json, ReportError};
 use crate::scene::compression::{Compression, DiscreteSolver, Indenter, Platen};
 use crate::scene::rods::End;
 use crate::scene::{ResolvedScene, Stage};
+use crate::theory::micromech::ShapeFactor;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -288,6 +290,8 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
             relaxed.state.min_gap, relaxed.state.contacts, relaxed.state.energy.vdw
         )));
     }
+    // the relaxed structure, before the compression moves `x`
+    let structure = vdw.as_ref().and_then(|v| sys.structure(&x, v.gap_switch));
     let params = CompressionParams {
         strain_max: k.to.0,
         steps: k.steps,
@@ -397,6 +401,15 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         // realisation 0's tangent table is the stage's, written by the pipeline
         write(&tangent, "discrete_tangent.csv")?;
     }
+    let mut structure_values = Vec::new();
+    if let (Some(st), Some(v)) = (&structure, &vdw) {
+        let bending = sys.model.rods.rods()[0].stiffness().bending;
+        let json;
+        (structure_values, json) = micromechanics(st, bending, v.gamma_l, &analysis);
+        let structure_file = rel.join("discrete_structure.json");
+        write_json(&ctx.out_dir.join(&structure_file), &json).map_err(report)?;
+        files.push(structure_file);
+    }
     let analysis_file = rel.join("discrete_analysis.json");
     write_json(&ctx.out_dir.join(&analysis_file), &analysis_json(&analysis)).map_err(report)?;
     files.push(analysis_file);
@@ -409,7 +422,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         );
     }
 
-    let mut values = BTreeMap::new();
+    let mut values: BTreeMap<String, f64> = structure_values.into_iter().collect();
     let mut put = |name: &str, v: f64| {
         values.insert(name.to_string(), v);
     };
@@ -481,14 +494,20 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
 
 /// The scalars of a realisation that the ensemble reduces, as (summary name without the unit,
 /// unit suffix): what [`CurveAnalysis`] gives — the peak stress, σ₀, the fitted (5.1) law and
-/// the hysteresis.
-const ENSEMBLE_SCALARS: [(&str, &str); 6] = [
+/// the hysteresis — and the relaxed structure with the micromechanics' σ₀ from it.
+const ENSEMBLE_SCALARS: [(&str, &str); 12] = [
     ("peak_stress", "_GPa"),
     ("sigma0", "_GPa"),
     ("tangent_e0", "_GPa"),
     ("tangent_e_inf", "_GPa"),
     ("tangent_eps0", ""),
     ("hysteresis", ""),
+    ("structure_free_length", "_nm"),
+    ("structure_contact_length", "_nm"),
+    ("structure_curvature", "_per_nm"),
+    ("structure_theta", ""),
+    ("micromech_sigma0_printed", "_GPa"),
+    ("micromech_sigma0_arc", "_GPa"),
 ];
 
 /// The ensemble's mean stress–strain curve along the common path, every step.
@@ -795,6 +814,68 @@ fn static_solver(k: &Compression) -> StaticSolver {
 }
 
 /// Loading (step 0 to the peak) and unloading (peak to the end, reversed to ascending strain).
+/// The relaxed structure (contact patches, free segments) and what the seed's micromechanics
+/// (2.14) predicts from it with the printed and the arc f(θ), beside the tubes' own σ₀ and peak:
+/// `structure_*` and `micromech_*` summary values, and the JSON of `discrete_structure.json`
+/// (a prediction outside its f(θ)'s domain is left out of the values and explained there).
+fn micromechanics(
+    st: &Structure,
+    bending: f64,
+    gamma_l: f64,
+    analysis: &CurveAnalysis,
+) -> (Vec<(String, f64)>, serde_json::Value) {
+    let seg = st.segments(bending, gamma_l);
+    let mut values = vec![
+        ("structure_patches".to_string(), st.patches as f64),
+        ("structure_free_segments".into(), st.free_segments as f64),
+        ("structure_contact_fraction".into(), st.contact_fraction),
+        ("structure_end_fraction".into(), st.end_fraction),
+    ];
+    // means over no patch or no free segment are not values (an ensemble must not average them)
+    if st.patches > 0 {
+        values.push(("structure_contact_length_nm".into(), st.contact_length_nm));
+    }
+    let mut predictions = serde_json::Map::new();
+    if st.free_segments == 0 {
+        let why = "no free segment between two contacts of one tube: (2.14) has nothing to count";
+        predictions.insert("not_predicted".into(), why.into());
+    } else {
+        values.push(("structure_free_length_nm".into(), st.free_length_nm));
+        values.push(("structure_curvature_per_nm".into(), st.curvature_per_nm));
+        values.push(("structure_theta".into(), st.theta));
+    }
+    let shapes = [(ShapeFactor::Printed, "printed"), (ShapeFactor::Arc, "arc")];
+    for (shape, name) in shapes.into_iter().filter(|_| st.free_segments > 0) {
+        let p = seg.threshold_stress(st.curvature_per_nm, st.theta, shape);
+        predictions.insert(
+            name.into(),
+            match p {
+                Ok(sigma) => {
+                    values.push((format!("micromech_sigma0_{name}_GPa"), sigma));
+                    serde_json::json!({ "sigma0_GPa": sigma })
+                }
+                Err(e) => serde_json::json!({ "not_predicted": e.to_string() }),
+            },
+        );
+    }
+    let mut json = serde_json::json!({
+        "definition": "contact patches: arclength of a tube whose axis is within r_a + r_b + gap \
+            of another tube's axis; free segments: between two consecutive patches of one tube; \
+            n per unit volume of the box up to the turf's top; kappa0 from the free segments' \
+            bending energy by (2.8); theta = kappa0 l / 2",
+        "structure": st,
+        "bending_stiffness_nN_nm2": bending,
+        "line_energy_nN": gamma_l,
+        "micromechanics_sigma0": predictions,
+        "tubes_peak_stress_GPa": analysis.peak_stress,
+    });
+    // the tubes' own σ₀ where the tangent law was fitted (a null would not be written)
+    if let Some(s0) = analysis.threshold_stress() {
+        json["tubes_sigma0_GPa"] = s0.into();
+    }
+    (values, json)
+}
+
 fn analyse(records: &[StepRecord]) -> CurveAnalysis {
     let col = |f: fn(&StepRecord) -> f64| records.iter().map(f).collect::<Vec<f64>>();
     let loading: Vec<bool> = records.iter().map(|r| r.loading).collect();

@@ -4,17 +4,23 @@
 //!
 //! - strain energy (2.8): U = ½ n l K κ²
 //! - total energy (2.9): E = ½ n l K κ² − ½ n a γ_L
-//! - kinematics at constant structure (2.10–2.12): δκ = κ f(θ) δε, with
+//! - kinematics at constant structure (2.10–2.12): δκ = κ f(θ) δε, with the printed
 //!   f(θ) = (φθ + sin θ)/(φ cos θ − sin θ), φ = a/l
 //! - stress (2.13): σ = ∂E/∂ε = n l K κ² f(θ); threshold (2.14): σ₀ = n l K κ₀² f(θ)
+//!
+//! The printed f(θ) does not follow from the constant-length circular arc the text describes:
+//! with θ = κl/2 and chord b = l sin θ/θ, (2.10) gives f = (φθ + sin θ)/(sin θ − θ cos θ) — the
+//! printed numerator, another denominator — and the discrete rod follows that form
+//! (docs/discrete-compression.md). Both are offered ([`ShapeFactor`]); the printed one stays the
+//! default of `turf theory micromech` because it is the seed's equation.
 //!
 //! Symbols: K = Y·I the tube's bending stiffness (nN·nm²); γ_L the contact energy per unit
 //! length of tube–tube contact (nN = nJ/m; the seed calls it γ); θ the angle of the segment
 //! geometry of the seed's Fig 2.3 (lost from the text); ε the nominal compressive strain.
 //! The seed counts n per unit mass, making E an energy per mass; here n is counted **per unit
 //! volume** (1/nm³) so that E is an energy density (aJ/nm³ = GPa) and σ a stress in GPa —
-//! divide by the turf's density for the seed's per-mass form. f(θ) is taken as printed; it is
-//! positive only for tan θ < φ, outside which this function returns an error.
+//! divide by the turf's density for the seed's per-mass form. The printed f(θ) is positive only
+//! for tan θ < φ, the arc's for 0 < θ < 4.4934 (tan θ = θ); outside, an error is returned.
 
 use super::{positive, TheoryError};
 
@@ -46,33 +52,64 @@ impl Segments {
             - 0.5 * n * self.contact_length * self.line_energy
     }
 
-    /// Stress (2.13), GPa, compressive positive, at curvature κ (1/nm) and angle θ (rad).
-    pub fn stress(&self, kappa: f64, theta: f64) -> Result<f64, TheoryError> {
+    /// Stress (2.13), GPa, compressive positive, at curvature κ (1/nm) and angle θ (rad), with
+    /// the shape factor `shape`.
+    pub fn stress(&self, kappa: f64, theta: f64, shape: ShapeFactor) -> Result<f64, TheoryError> {
         positive("segment density n", self.number_density)?;
         positive("free length l", self.free_length)?;
         positive("bending stiffness K", self.bending_stiffness)?;
-        let f = shape_factor(theta, self.phi())?;
+        let f = shape.value(theta, self.phi())?;
         Ok(self.number_density * self.free_length * self.bending_stiffness * kappa * kappa * f)
     }
 
     /// Threshold stress σ₀ (2.14) at the initial curvature κ₀, GPa.
-    pub fn threshold_stress(&self, kappa0: f64, theta: f64) -> Result<f64, TheoryError> {
-        self.stress(kappa0, theta)
+    pub fn threshold_stress(
+        &self,
+        kappa0: f64,
+        theta: f64,
+        shape: ShapeFactor,
+    ) -> Result<f64, TheoryError> {
+        self.stress(kappa0, theta, shape)
     }
 }
 
-/// f(θ) = (φθ + sin θ)/(φ cos θ − sin θ) (seed 2.12), for 0 ≤ θ with tan θ < φ.
-pub fn shape_factor(theta: f64, phi: f64) -> Result<f64, TheoryError> {
-    positive("φ = a/l", phi)?;
-    let den = phi * theta.cos() - theta.sin();
-    if !(theta.is_finite() && theta >= 0.0) || den <= 0.0 {
-        return Err(TheoryError::OutOfDomain {
-            what: "segment angle θ",
-            value: theta,
-            allowed: format!("0 ≤ θ < atan(φ) = {} rad, where f(θ) > 0", phi.atan()),
-        });
+/// The arc's f(θ) is positive below the first positive root of tan θ = θ.
+const ARC_THETA_MAX: f64 = 4.493_409_457_909_064;
+
+/// Which f(θ) of (2.11) relates the curvature to the strain at constant structure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShapeFactor {
+    /// f(θ) = (φθ + sin θ)/(φ cos θ − sin θ), as printed (seed 2.12), for 0 ≤ θ with tan θ < φ
+    Printed,
+    /// f(θ) = (φθ + sin θ)/(sin θ − θ cos θ), the constant-length circular arc of half-angle θ
+    /// with (2.10), for 0 < θ < 4.4934
+    Arc,
+}
+
+impl ShapeFactor {
+    /// f(θ) at φ = a/l.
+    pub fn value(self, theta: f64, phi: f64) -> Result<f64, TheoryError> {
+        positive("φ = a/l", phi)?;
+        let (den, allowed) = match self {
+            ShapeFactor::Printed => (
+                phi * theta.cos() - theta.sin(),
+                format!("0 ≤ θ < atan(φ) = {} rad, where f(θ) > 0", phi.atan()),
+            ),
+            ShapeFactor::Arc => (
+                theta.sin() - theta * theta.cos(),
+                format!("0 < θ < {ARC_THETA_MAX} rad (tan θ = θ), where f(θ) > 0"),
+            ),
+        };
+        if !(theta.is_finite() && theta >= 0.0) || den <= 0.0 {
+            return Err(TheoryError::OutOfDomain {
+                what: "segment angle θ",
+                value: theta,
+                allowed,
+            });
+        }
+        Ok((phi * theta + theta.sin()) / den)
     }
-    Ok((phi * theta + theta.sin()) / den)
 }
 
 #[cfg(test)]
@@ -94,20 +131,30 @@ mod tests {
         // at constant structure dκ/dε = κ f(θ) (2.11): κ(ε) = κ₀ exp(f ε); σ = dE/dε by FD
         let s = segs();
         let (k0, theta) = (1e-3, 0.2);
-        let f = shape_factor(theta, s.phi()).unwrap();
-        let kappa = |eps: f64| k0 * (f * eps).exp();
-        let e = 1e-6;
-        let fd = (s.energy_density(kappa(e)) - s.energy_density(kappa(-e))) / (2.0 * e);
-        let sigma = s.stress(k0, theta).unwrap();
-        // central difference: relative truncation ~(f e)² ~ 1e-12
-        assert!((fd - sigma).abs() < 1e-8 * sigma, "{fd} {sigma}");
+        for shape in [ShapeFactor::Printed, ShapeFactor::Arc] {
+            let f = shape.value(theta, s.phi()).unwrap();
+            let kappa = |eps: f64| k0 * (f * eps).exp();
+            let e = 1e-6;
+            let fd = (s.energy_density(kappa(e)) - s.energy_density(kappa(-e))) / (2.0 * e);
+            let sigma = s.stress(k0, theta, shape).unwrap();
+            // central difference: relative truncation ~(f e)² ~ 1e-12
+            assert!((fd - sigma).abs() < 1e-8 * sigma, "{shape:?}: {fd} {sigma}");
+        }
     }
 
     #[test]
     fn shape_factor_domain_and_limits() {
-        assert_eq!(shape_factor(0.0, 0.4).unwrap(), 0.0);
-        assert!(shape_factor(0.5, 0.4).is_err()); // tan 0.5 > 0.4
-        assert!(shape_factor(0.3, 0.4).unwrap() > 0.0);
-        assert!(shape_factor(0.1, 0.0).is_err());
+        let printed = |t, p| ShapeFactor::Printed.value(t, p);
+        assert_eq!(printed(0.0, 0.4).unwrap(), 0.0);
+        assert!(printed(0.5, 0.4).is_err()); // tan 0.5 > 0.4
+        assert!(printed(0.3, 0.4).unwrap() > 0.0);
+        assert!(printed(0.1, 0.0).is_err());
+        let arc = |t, p| ShapeFactor::Arc.value(t, p);
+        assert!(arc(0.0, 0.4).is_err()); // a straight segment cannot shorten at constant length
+        assert!(arc(ARC_THETA_MAX + 1e-9, 0.4).is_err());
+        // small θ: sin θ − θ cos θ ≈ θ³/3, so f ≈ 3(1 + φ)/θ² (relative error O(θ²))
+        let (t, p) = (1e-3, 0.4);
+        let small = 3.0 * (1.0 + p) / (t * t);
+        assert!((arc(t, p).unwrap() / small - 1.0).abs() < 1e-6);
     }
 }

@@ -195,6 +195,36 @@ fn the_pipeline_writes_the_curve_homogenize_fits_it_and_a_resumed_run_repeats_it
     // relaxed tubes touch (a contact) without interpenetrating
     let gap = v["relaxed_min_gap_nm"].as_f64().unwrap();
     assert!(gap > 0.0 && gap < 2.5, "smallest relaxed gap {gap} nm");
+    // the relaxed structure and the micromechanics' σ₀ from it (2.14, the arc's f(θ))
+    let st: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("discrete_structure.json")).unwrap(),
+    )
+    .unwrap();
+    let num = |v: &serde_json::Value| v.as_f64().unwrap();
+    let structure = &st["structure"];
+    let (patches, free) = (num(&structure["patches"]), num(&structure["free_segments"]));
+    assert!(patches > 0.0 && free <= patches, "{structure}");
+    assert_eq!(v["structure_patches"], patches);
+    for f in ["contact_fraction", "end_fraction"] {
+        assert!((0.0..=1.0).contains(&num(&structure[f])), "{f}");
+    }
+    if free > 0.0 {
+        let seg = turf::theory::micromech::Segments {
+            number_density: num(&structure["number_density_per_nm3"]),
+            free_length: num(&structure["free_length_nm"]),
+            contact_length: num(&structure["contact_length_nm"]),
+            bending_stiffness: num(&st["bending_stiffness_nN_nm2"]),
+            line_energy: num(&st["line_energy_nN"]),
+        };
+        let arc = seg
+            .threshold_stress(
+                num(&structure["curvature_per_nm"]),
+                num(&structure["theta"]),
+                turf::theory::micromech::ShapeFactor::Arc,
+            )
+            .unwrap();
+        assert_eq!(num(&v["micromech_sigma0_arc_GPa"]), arc);
+    }
     assert_eq!(json["stages"][1]["stage"], "homogenize");
     assert!(json["complete"].as_bool().unwrap());
 
@@ -296,10 +326,11 @@ fn discrete_cell_stress(
     seg.number_density * (b + seg.contact_length) * (u_p - u_m) / (b_m - b_p)
 }
 
-/// f(θ) of the circular arc of (2.10)–(2.11) with θ = κl/2: b = l sin θ/θ at constant l gives
-/// f = (φθ + sin θ)/(sin θ − θ cos θ).
+/// f(θ) of the circular arc of (2.10)–(2.11) with θ = κl/2.
 fn arc_shape_factor(theta: f64, phi: f64) -> f64 {
-    (phi * theta + theta.sin()) / (theta.sin() - theta * theta.cos())
+    turf::theory::micromech::ShapeFactor::Arc
+        .value(theta, phi)
+        .unwrap()
 }
 
 fn idealised_segments(
@@ -353,8 +384,12 @@ fn an_idealised_bent_segment_cell_follows_the_scaling_of_2_13_and_2_14() {
     assert!(base > 0.0, "a threshold stress: σ₀ = {base} GPa");
     // (2.14) through theory::micromech: its σ₀ ratios at the same θ and φ (f cancels)
     let printed = |s: &turf::theory::micromech::Segments, kappa: f64| {
-        s.threshold_stress(kappa, 0.5 * kappa * s.free_length)
-            .unwrap()
+        s.threshold_stress(
+            kappa,
+            0.5 * kappa * s.free_length,
+            turf::theory::micromech::ShapeFactor::Printed,
+        )
+        .unwrap()
     };
     // K ×3
     let s_k = idealised_segments(l, phi, 3.0 * k);
