@@ -268,6 +268,10 @@ const NEGLIGIBLE_SHARE: f64 = 1e-2;
 /// misfit by more than this fraction (a small term that does real work is kept).
 const REDUNDANT_GAIN: f64 = 0.05;
 
+/// Relative RMS misfit below which two fits count as equal whatever their ratio: round-off and
+/// solver tolerance (exact data fit to ~1e-16).
+const RMS_ROUNDOFF: f64 = 1e-9;
+
 /// Relative distance from an end of [`ALPHA_RANGE`] within which α counts as pinned there.
 const AT_BOUND: f64 = 1e-2;
 
@@ -485,7 +489,9 @@ pub fn fit_hyperfoam(
     let peak = stress.iter().cloned().fold(0.0, f64::max);
     let rms_rel = r.norm() / norm;
     if let Some(why) = redundancy(&mu, &alpha) {
-        if let Some(f) = fewer.filter(|f| f.rms_rel <= rms_rel * (1.0 + REDUNDANT_GAIN)) {
+        let no_better =
+            |f: &HyperfoamFit| f.rms_rel <= rms_rel * (1.0 + REDUNDANT_GAIN) + RMS_ROUNDOFF;
+        if let Some(f) = fewer.filter(no_better) {
             let why = format!(
                 "the {n}-term fit is degenerate ({why}) and fits no better: relative RMS misfit \
                  {:.2} % with {n} terms, {:.2} % with {}",

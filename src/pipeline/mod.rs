@@ -282,6 +282,11 @@ pub fn run_with(
         error: None,
         stale_files: Vec::new(),
     };
+    // the folder first: one clear error, before any stage runs, when it cannot be made
+    std::fs::create_dir_all(&out_dir).map_err(|cause| ReportError::Io {
+        path: out_dir.display().to_string(),
+        cause,
+    })?;
     let summary_path = out_dir.join("summary.json");
     let earlier = earlier_files(&summary_path);
     let points: Vec<(Option<&toml::Value>, &ResolvedScene)> = if loaded.sweep.is_empty() {
