@@ -23,12 +23,14 @@ fn run_jkr(dir: &Path) -> String {
     err
 }
 
+/// A fresh (removed if present) folder name under the system's temporary folder.
 fn temp(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("turf-robust-{tag}-{}", std::process::id()));
     std::fs::remove_dir_all(&dir).ok();
     dir
 }
 
+/// The `summary.json` of the run in `dir`.
 fn summary(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
 }
@@ -144,6 +146,41 @@ fn files_of_an_earlier_run_that_this_run_did_not_write_are_listed_not_deleted() 
     std::fs::remove_dir_all(dir).ok();
 }
 
+/// Start `turf run ARGS`, wait until `ready()` (polled every 50 ms, at most a minute), send
+/// SIGINT and wait for the process to end (at most a minute); its exit status and stderr.
+#[cfg(unix)]
+fn interrupted_run(args: &[&str], ready: impl Fn() -> bool) -> (std::process::ExitStatus, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_turf"))
+        .arg("run")
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let wait_for = |what: &str, done: &mut dyn FnMut() -> bool| {
+        let start = Instant::now();
+        while !done() {
+            assert!(start.elapsed() < Duration::from_secs(60), "{what}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    };
+    wait_for("the run never got ready", &mut || ready());
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let mut status = None;
+    wait_for("no stop after SIGINT", &mut || {
+        status = child.try_wait().unwrap();
+        status.is_some()
+    });
+    let mut err = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+    (status.unwrap(), err)
+}
+
 /// SIGINT to `turf run` in the middle of a long continuum stage: the run stops at the next
 /// increment, `summary.json` says `complete = false` with an error naming the stage and the
 /// interrupt, and the rows reached are in `continuum/load_depth.csv`.
@@ -151,40 +188,17 @@ fn files_of_an_earlier_run_that_this_run_did_not_write_are_listed_not_deleted() 
 #[test]
 fn an_interrupted_continuum_stage_is_recorded_and_keeps_its_rows() {
     let dir = temp("sigint");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_turf"))
-        .args([
-            "run",
-            "scenes/hertz.toml",
-            "--set",
-            "solver.increments=200000",
-            "--out",
-            dir.to_str().unwrap(),
-        ])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let d = dir.to_str().unwrap();
+    let args = [
+        "scenes/hertz.toml",
+        "--set",
+        "solver.increments=200000",
+        "--out",
+        d,
+    ];
     // the theory stage and the mesh take well under a second; the 200,000 increments minutes
-    std::thread::sleep(Duration::from_secs(3));
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
-    let start = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "no stop after SIGINT"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let mut err = String::new();
-    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+    let t0 = Instant::now();
+    let (status, err) = interrupted_run(&args, || t0.elapsed() > Duration::from_secs(3));
     assert!(!status.success(), "{err}");
     assert!(err.contains("interrupted"), "{err}");
     let s = summary(&dir);
@@ -198,6 +212,35 @@ fn an_interrupted_continuum_stage_is_recorded_and_keeps_its_rows() {
     );
     let rows = std::fs::read_to_string(dir.join("continuum/load_depth.csv")).unwrap();
     assert!(rows.lines().count() > 2, "{rows}");
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// SIGINT during the discrete drive (a small turf in 400 strain steps): the drive stops after
+/// the step it is solving, the curve so far and the checkpoint are kept, and the error points
+/// to `--resume`.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_discrete_stage_keeps_its_checkpoint_and_points_to_resume() {
+    let dir = temp("sigint-discrete");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("small.toml");
+    let text = crate::common::SMALL_TURF_SCENE
+        .replace("steps = 5", "steps = 400")
+        .replace("vtk = true", "vtk = false");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("out");
+    let checkpoint = out.join(turf::pipeline::CHECKPOINT);
+    let args = [scene.to_str().unwrap(), "--out", out.to_str().unwrap()];
+    // ready once the first strain step is checkpointed
+    let (status, err) = interrupted_run(&args, || checkpoint.is_file());
+    assert!(!status.success(), "{err}");
+    let s = summary(&out);
+    assert_eq!(s["complete"], false);
+    let e = s["error"].as_str().unwrap();
+    assert!(e.starts_with("stage 'discrete' interrupted"), "{e}");
+    assert!(e.contains("--resume"), "{e}");
+    assert!(checkpoint.is_file());
+    assert!(out.join("stress_strain.csv").is_file(), "the curve so far");
     std::fs::remove_dir_all(dir).ok();
 }
 
