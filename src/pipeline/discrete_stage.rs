@@ -413,7 +413,11 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     write_json(&ctx.out_dir.join(&analysis_file), &analysis_json(&analysis)).map_err(report)?;
     files.push(analysis_file);
     // the other realisations' curves are in the ensemble's band plot
-    let mut warnings = Vec::new();
+    // realisation 0's fit speaks for a single run (an ensemble adds its mean curve's)
+    let mut warnings = match job.index {
+        0 => analysis.fit_warnings(),
+        _ => Vec::new(),
+    };
     if s.output.plots && job.index == 0 {
         files.extend(
             write_plots(&analysis, &records, &ctx.out_dir.join(&rel), &mut warnings)
@@ -594,6 +598,9 @@ fn ensemble_output(
         write(branch_table(u), ENSEMBLE_UNLOADING_CSV, &mut files)?;
     }
     let mean_analysis = CurveAnalysis::new(mean_loading, mean_unloading);
+    let mean_warnings = mean_analysis.fit_warnings().into_iter();
+    out.warnings
+        .extend(mean_warnings.map(|w| format!("mean curve of the realisations: {w}")));
     let mut estimates = serde_json::Map::new();
     for ((base, unit), name) in ENSEMBLE_SCALARS.iter().zip(&names) {
         if let Some(e) = scalars.get(*name) {
