@@ -14,6 +14,7 @@
 //! - [`experiment`]: measured indentation records and the fit of the seed's indentation law.
 //! - [`scene`]: the scene file (TOML), its validation and the resolved plan.
 //! - [`pipeline`]: a scene's stages run in order.
+//! - [`interrupt`]: the SIGINT/SIGTERM request long stages poll to stop with what they have.
 //! - [`report`]: CSV, JSON, plots and VTK, every file written atomically.
 //! - [`bench`]: the speed–accuracy ladder and refinement sweeps of `turf bench`.
 #![warn(missing_docs)]
@@ -24,6 +25,7 @@ pub mod discrete;
 pub mod experiment;
 pub mod halfspace;
 pub mod homogenize;
+pub mod interrupt;
 pub mod laws;
 pub mod numerics;
 pub mod pipeline;

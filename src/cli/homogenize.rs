@@ -3,6 +3,7 @@
 use clap::Args;
 use std::path::PathBuf;
 use turf::homogenize::{self, tangent_law::TangentLaw, HomogenizeParams, Relaxation, Source};
+use turf::scene::plan::sig;
 use turf::units::{parse_quantity, Dimension};
 
 /// Arguments of `turf homogenize`.
@@ -106,6 +107,10 @@ pub fn run(args: HomogenizeArgs) -> anyhow::Result<()> {
     let out = homogenize::run(&params)?;
     let dir = args.out.unwrap_or_else(homogenize::default_out_dir);
     let summary = homogenize::write_outputs(&out, &dir)?;
+    // on stderr, so that they show with --json too
+    for w in &summary.warnings {
+        eprintln!("warning: {w}");
+    }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
         return Ok(());
@@ -113,10 +118,10 @@ pub fn run(args: HomogenizeArgs) -> anyhow::Result<()> {
     let m = &out.hyperfoam_fit.material;
     let law = out.tangent_law;
     println!(
-        "tangent law (5.1): E0 = {:.6} MPa, Einf = {:.6} MPa, eps0 = {:.6}{}",
-        law.e0 * 1e3,
-        law.e_inf * 1e3,
-        law.eps0,
+        "tangent law (5.1): E0 = {} MPa, Einf = {} MPa, eps0 = {}{}",
+        sig(law.e0 * 1e3),
+        sig(law.e_inf * 1e3),
+        sig(law.eps0),
         if out.tangent_fit.is_some() {
             " (fitted)"
         } else {
@@ -132,8 +137,9 @@ pub fn run(args: HomogenizeArgs) -> anyhow::Result<()> {
         );
     }
     println!(
-        "hyperfoam N = {} on 0 < strain <= {} ({} points), nu = {:.4}:",
+        "hyperfoam N = {} ({} requested) on 0 < strain <= {} ({} points), nu = {:.4}:",
         m.terms.len(),
+        summary.terms_requested,
         out.hyperfoam_fit.strain_max,
         out.hyperfoam_fit.points,
         out.hyperfoam_fit.nu
@@ -156,9 +162,6 @@ pub fn run(args: HomogenizeArgs) -> anyhow::Result<()> {
     );
     if let Some(p) = &out.card.prony {
         println!("prony: g = {:?}, k = {:?}, tau = {:?} s", p.g, p.k, p.tau);
-    }
-    for w in &out.hyperfoam_fit.warnings {
-        println!("warning: {w}");
     }
     println!("wrote {} ({})", dir.display(), summary.files.join(", "));
     Ok(())

@@ -58,6 +58,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             );
         }
     }
+    // Ctrl-C / SIGTERM stop long stages at their next step, keeping what they reached
+    turf::interrupt::install();
     let report = pipeline::run(&loaded, &opts)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report.summary)?);

@@ -427,6 +427,9 @@ impl Curve<'_> {
                     segments: p.schedule.len(),
                     row,
                 });
+                if crate::interrupt::requested() {
+                    return Err(crate::interrupt::REASON.into());
+                }
                 let secant: Vec<f64> = next.y.iter().zip(&pt.y).map(|(a, b)| a - b).collect();
                 t = next.tangent(|t| dot(t, &secant));
                 let its = next.iterations.max(1) as f64;

@@ -640,7 +640,9 @@ pub(super) fn snapshot(
     })
 }
 
-/// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished.
+/// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished;
+/// so does an interrupt ([`crate::interrupt::requested`], polled after every converged
+/// increment).
 pub fn run_indent(
     p: &IndentParams,
     progress: &mut dyn FnMut(&Progress),
@@ -847,6 +849,12 @@ pub fn run_indent(
                         segments: p.schedule.len(),
                         row,
                     });
+                    if crate::interrupt::requested() {
+                        result.failure = Some(crate::interrupt::REASON.into());
+                        result.stats.assembly = asm.stats;
+                        result.stats.wall_s = t_start.elapsed().as_secs_f64();
+                        return Err(FeError::Stopped(Box::new(result)));
+                    }
                     if info.iterations <= p.solver.quick_iterations {
                         step = (step * p.solver.growth).min(base);
                     }

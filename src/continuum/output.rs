@@ -52,6 +52,15 @@ pub struct Summary<'a> {
     pub params: &'a super::indent::IndentParams,
 }
 
+/// What [`IndentResult::write`] wrote besides the CSV, the summary and the VTU files.
+#[derive(Debug, Default)]
+pub struct Written {
+    /// the plots written, relative to the output folder given
+    pub plots: Vec<String>,
+    /// the plots that could not be written, with the reason
+    pub warnings: Vec<String>,
+}
+
 impl IndentResult {
     /// The summary of this run.
     pub fn summary(&self) -> Summary<'_> {
@@ -84,8 +93,10 @@ impl IndentResult {
         }
     }
 
-    /// Write the CSV, summary, plots and VTU files into `dir`.
-    pub fn write(&self, dir: &Path) -> Result<(), ReportError> {
+    /// Write the CSV, summary, plots and VTU files into `dir`. A plot that cannot be written
+    /// is a warning, not an error: returns the plots written (relative to `dir`) and the
+    /// warnings.
+    pub fn write(&self, dir: &Path) -> Result<Written, ReportError> {
         let col = |f: fn(&super::indent::Row) -> f64| self.rows.iter().map(f).collect::<Vec<_>>();
         let mut table = Table::new()
             .column("time_s", col(|r| r.time_s))
@@ -110,21 +121,24 @@ impl IndentResult {
         table.write(&dir.join("load_depth.csv"))?;
         write_json(&dir.join("summary.json"), &self.summary())?;
         let plots = dir.join("plots");
-        Plot::new("Load–depth", "depth δ (nm)", "load P (nN)")
-            .with(Series::line("FE", col(|r| r.depth_nm), col(|r| r.load_nN)))
-            .write(&plots, "load_depth")?;
-        Plot::new("Contact radius", "depth δ (nm)", "contact radius a (nm)")
-            .with(Series::points(
-                "FE",
-                col(|r| r.depth_nm),
-                col(|r| r.contact_radius_nm),
-            ))
-            .write(&plots, "contact_radius")?;
+        let mut written = Written::default();
+        let load_depth = Plot::new("Load–depth", "depth δ (nm)", "load P (nN)").with(Series::line(
+            "FE",
+            col(|r| r.depth_nm),
+            col(|r| r.load_nN),
+        ));
+        let radius = Plot::new("Contact radius", "depth δ (nm)", "contact radius a (nm)").with(
+            Series::points("FE", col(|r| r.depth_nm), col(|r| r.contact_radius_nm)),
+        );
+        for (plot, stem) in [(load_depth, "load_depth"), (radius, "contact_radius")] {
+            let files = plot.write_or_warn(&plots, stem, "plots", &mut written.warnings);
+            written.plots.extend(files);
+        }
         for s in &self.snapshots {
             self.grid(&s.displacement, &s.stress)
                 .write(&dir.join("vtk").join(format!("indent_{}.vtu", s.label)))?;
         }
-        Ok(())
+        Ok(written)
     }
 
     /// The deformed mesh as a VTK grid (points at x = X + u in the (r, z) plane).

@@ -15,6 +15,7 @@
 //! Works per unit volume are in GPa (= GJ/m³).
 
 use crate::homogenize::curve::StressStrainCurve;
+use crate::homogenize::quality;
 use crate::homogenize::tangent_law::{fit_tangent_law, TangentFitParams, TangentLawFit};
 
 /// One branch of the curve, strain ascending.
@@ -87,6 +88,24 @@ impl CurveAnalysis {
         }
     }
 
+    /// What the user must know about the fit of (5.1) ([`crate::homogenize::quality`]): a
+    /// misfit over the threshold, E^∞ > E⁰, E⁰ collapsed to zero (σ₀ → 0 on a late-rising
+    /// curve), ε₀ below the first strain. Empty when the fit represents the curve or failed
+    /// (a failed fit shows as its values missing).
+    pub fn fit_warnings(&self) -> Vec<String> {
+        let Ok(f) = &self.fit else {
+            return Vec::new();
+        };
+        let (e, s) = (&self.loading.strain, &self.loading.stress);
+        let mut w = quality::law_warnings(&f.law, e, s, true);
+        w.extend(quality::misfit_warning(
+            "tangent-law (5.1) fit of the loading curve",
+            f.rms_rel,
+            None,
+        ));
+        w
+    }
+
     /// Threshold stress σ₀ = E⁰ε₀ of the fitted (5.1), GPa (see the module doc); `None` without
     /// a fit or when the fit's constants give no finite product.
     pub fn threshold_stress(&self) -> Option<f64> {
@@ -130,6 +149,31 @@ mod tests {
         // the tangent falls
         let t = a.loading.tangent();
         assert!(t.first().unwrap().1 > 5.0 * t.last().unwrap().1);
+    }
+
+    #[test]
+    fn a_late_rising_curve_gets_a_warning_and_a_law_sample_none() {
+        let strain: Vec<f64> = (0..=30).map(|k| 0.01 * k as f64).collect();
+        // convex: no initial stiffness, the stress rises late (a buckling turf before contact)
+        let stress = strain.iter().map(|&e| 0.1 * e.powi(3)).collect();
+        let a = CurveAnalysis::new(
+            Branch {
+                strain: strain.clone(),
+                stress,
+            },
+            None,
+        );
+        let w = a.fit_warnings();
+        assert!(
+            w.iter()
+                .any(|x| x.contains("exceeds E0") || x.contains("collapsed")),
+            "{:?} {w:?}",
+            a.fit.as_ref().map(|f| f.law)
+        );
+        let law = TangentLaw::seed(0.08);
+        let stress = strain.iter().map(|&e| law.stress(e)).collect();
+        let a = CurveAnalysis::new(Branch { strain, stress }, None);
+        assert!(a.fit_warnings().is_empty(), "{:?}", a.fit_warnings());
     }
 
     #[test]

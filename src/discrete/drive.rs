@@ -84,6 +84,14 @@ pub enum DriveError {
         /// the solver's diagnostics
         source: SolveError,
     },
+    /// an interrupt was requested ([`crate::interrupt`]): the drive stopped after this step
+    #[error("compression interrupted after step {step} (strain {strain:.4})")]
+    Interrupted {
+        /// the last step reached
+        step: usize,
+        /// its strain
+        strain: f64,
+    },
 }
 
 /// The strains of the path, step 0 (ε = 0) first; `true` while loading.
@@ -106,7 +114,8 @@ pub fn strain_path(p: &CompressionParams) -> Vec<(f64, bool)> {
 /// solving each step with `solver`; with `resume`, the steps it holds are taken as reached and
 /// the drive continues after the last of them. `observe` sees every step's record and
 /// configuration as it is reached (progress, VTK output, checkpoints). Returns the records,
-/// step 0 first.
+/// step 0 first; an interrupt ([`crate::interrupt::requested`]) stops the drive after the
+/// step being solved, once `observe` has seen it.
 pub fn compress(
     sys: &mut TurfSystem,
     x: &mut [f64],
@@ -122,6 +131,7 @@ pub fn compress(
         )));
     }
     let path = strain_path(params);
+    let total = path.len();
     let (h0, saved) = match resume {
         Some(r) => (r.start_height, r.steps.as_slice()),
         None => (sys.height(x), &[][..]),
@@ -176,6 +186,9 @@ pub fn compress(
         observe(&rec, x);
         before = last.map(|(h_last, _)| (x_last, h_last));
         records.push(rec);
+        if crate::interrupt::requested() && step + 1 < total {
+            return Err(DriveError::Interrupted { step, strain });
+        }
     }
     Ok(records)
 }

@@ -93,8 +93,11 @@ pub struct HyperfoamFit {
     pub rms_rel: f64,
     /// max |σ_fit − σ_data| / max σ_data over the fitted points
     pub max_rel: f64,
-    /// stability and fit-quality warnings (empty when all checks pass)
+    /// stability and fit-quality warnings (empty when all checks pass), including why fewer
+    /// terms than requested were kept
     pub warnings: Vec<String>,
+    /// the number of terms asked for; `material.terms.len()` is the number used
+    pub terms_requested: usize,
     /// solver diagnostics
     pub info: lsq::Info,
 }
@@ -257,8 +260,20 @@ const ALPHA_RANGE: (f64, f64) = (1e-2, 1e3);
 /// Smallest share of Σμ a term may take during the fit (a vanishing term is degenerate).
 const MU_SHARE_MIN: f64 = 1e-8;
 
-/// Share of Σμ below which a fitted term is reported as negligible.
-const NEGLIGIBLE_SHARE: f64 = 1e-4;
+/// Share of Σμ below which a fitted term counts as negligible (a candidate for dropping): the
+/// quickstart's degenerate two-term card had 1e-3.
+const NEGLIGIBLE_SHARE: f64 = 1e-2;
+
+/// A degenerate N-term fit is replaced by the (N−1)-term fit unless it lowers the relative RMS
+/// misfit by more than this fraction (a small term that does real work is kept).
+const REDUNDANT_GAIN: f64 = 0.05;
+
+/// Relative RMS misfit below which two fits count as equal whatever their ratio: round-off and
+/// solver tolerance (exact data fit to ~1e-16).
+const RMS_ROUNDOFF: f64 = 1e-9;
+
+/// Relative distance from an end of [`ALPHA_RANGE`] within which α counts as pinned there.
+const AT_BOUND: f64 = 1e-2;
 
 /// Share of Σμ given to the new term of a nested start.
 const NESTED_SHARE: f64 = 1e-3;
@@ -443,12 +458,10 @@ pub fn fit_hyperfoam(
         Err(lsq::Error::NoConvergence { iterations, .. }) if fewer.is_some() => {
             // degenerate valleys (two terms merging) converge slowly: keep the converged
             // (N−1)-term fit and say so
-            let mut f = fewer.expect("checked");
-            f.warnings.push(format!(
-                "the {n}-term fit did not converge in {iterations} iterations (the data do not support {n} terms): the {}-term fit is returned",
-                n - 1
-            ));
-            return Ok(f);
+            let why = format!(
+                "the {n}-term fit did not converge in {iterations} iterations (the data do not support {n} terms)"
+            );
+            return Ok(with_fewer_terms(fewer.expect("checked"), n, why));
         }
         Err(e) => return Err(e.into()),
     };
@@ -474,17 +487,23 @@ pub fn fit_hyperfoam(
     let (r, _) = problem.eval(&mu, &alpha, false);
     let norm = stress.iter().map(|x| x * x).sum::<f64>().sqrt();
     let peak = stress.iter().cloned().fold(0.0, f64::max);
-    let mut warnings = stability_warnings(&material, params.strain_max);
-    let mu_total: f64 = mu.iter().sum();
-    for (i, m) in mu.iter().enumerate() {
-        if n > 1 && *m < NEGLIGIBLE_SHARE * mu_total {
-            warnings.push(format!(
-                "term {} carries {:.1e} of sum(mu): the data support fewer than {n} terms",
-                i + 1,
-                m / mu_total
-            ));
+    let rms_rel = r.norm() / norm;
+    if let Some(why) = redundancy(&mu, &alpha) {
+        let no_better =
+            |f: &HyperfoamFit| f.rms_rel <= rms_rel * (1.0 + REDUNDANT_GAIN) + RMS_ROUNDOFF;
+        if let Some(f) = fewer.filter(no_better) {
+            let why = format!(
+                "the {n}-term fit is degenerate ({why}) and fits no better: relative RMS misfit \
+                 {:.2} % with {n} terms, {:.2} % with {}",
+                100.0 * rms_rel,
+                100.0 * f.rms_rel,
+                f.material.terms.len()
+            );
+            return Ok(with_fewer_terms(f, n, why));
         }
     }
+    let mut warnings = stability_warnings(&material, params.strain_max);
+    warnings.extend(bound_warnings(&alpha));
     if let (None, Some(&e1), Some(&s1)) = (mu_sum, strain.first(), stress.first()) {
         // the fitted initial modulus is seen by the data only if the first point still lies
         // near its line: a point far below E⁰ε₁ is past the knee, and E⁰ is an extrapolation
@@ -501,30 +520,79 @@ pub fn fit_hyperfoam(
             ));
         }
     }
-    for i in 0..n {
-        for j in i + 1..n {
-            if (alpha[i] / alpha[j] - 1.0).abs() < DEGENERATE_ALPHA {
-                warnings.push(format!(
-                    "terms {} and {} have nearly equal alpha ({:.4}, {:.4}): the data support fewer than {n} terms",
-                    i + 1,
-                    j + 1,
-                    alpha[i],
-                    alpha[j]
-                ));
-            }
-        }
-    }
     Ok(HyperfoamFit {
         material,
         nu,
         std_errors,
         points: strain.len(),
         strain_max: params.strain_max,
-        rms_rel: r.norm() / norm,
+        rms_rel,
         max_rel: r.amax() / peak,
         warnings,
+        terms_requested: n,
         info,
     })
+}
+
+/// Why fitted terms are redundant: a term with less than [`NEGLIGIBLE_SHARE`] of Σμ, or two
+/// terms whose α differ by less than [`DEGENERATE_ALPHA`] (relative); `None` when every term is
+/// distinct and carries weight.
+fn redundancy(mu: &[f64], alpha: &[f64]) -> Option<String> {
+    let total: f64 = mu.iter().sum();
+    let mut why = Vec::new();
+    for (i, m) in mu.iter().enumerate() {
+        if *m < NEGLIGIBLE_SHARE * total {
+            why.push(format!(
+                "term {} carries {:.1e} of sum(mu)",
+                i + 1,
+                m / total
+            ));
+        }
+    }
+    for i in 0..alpha.len() {
+        for j in i + 1..alpha.len() {
+            if (alpha[i] / alpha[j] - 1.0).abs() < DEGENERATE_ALPHA {
+                why.push(format!(
+                    "terms {} and {} have equal alpha within {} % ({:.4}, {:.4})",
+                    i + 1,
+                    j + 1,
+                    100.0 * DEGENERATE_ALPHA,
+                    alpha[i],
+                    alpha[j]
+                ));
+            }
+        }
+    }
+    (mu.len() > 1 && !why.is_empty()).then(|| why.join("; "))
+}
+
+/// The fit with fewer terms, returned for a request of `requested` terms, saying why.
+fn with_fewer_terms(mut fit: HyperfoamFit, requested: usize, why: String) -> HyperfoamFit {
+    let used = fit.material.terms.len();
+    fit.warnings.insert(
+        0,
+        format!("{requested} terms requested, {used} used: {why}"),
+    );
+    fit.terms_requested = requested;
+    fit
+}
+
+/// A warning for each α at an end of [`ALPHA_RANGE`] (within [`AT_BOUND`]): the iteration
+/// stopped against the bound, so the card's shape is the bound's, not the data's.
+fn bound_warnings(alpha: &[f64]) -> Vec<String> {
+    let (lo, hi) = ALPHA_RANGE;
+    alpha
+        .iter()
+        .enumerate()
+        .filter(|(_, &a)| a < lo * (1.0 + AT_BOUND) || a > hi / (1.0 + AT_BOUND))
+        .map(|(i, a)| {
+            format!(
+                "alpha{} = {a:.4} sits at the bound of its admissible range [{lo}, {hi}]: the \
+                 hyperfoam cannot follow this curve's shape (compare fit_rms_rel and the plot)",
+                i + 1
+            )
+        })
+        .collect()
 }
 
 /// Fraction of the initial modulus's line E⁰ε₁ below which the first fitted point counts as
@@ -532,7 +600,7 @@ pub fn fit_hyperfoam(
 const UNRESOLVED_E0: f64 = 0.5;
 
 /// Relative difference below which two fitted α count as one term (degenerate fit).
-const DEGENERATE_ALPHA: f64 = 1e-3;
+const DEGENERATE_ALPHA: f64 = 1e-2;
 
 /// Stretch samples of the stability check over the fitted range.
 const STABILITY_SAMPLES: usize = 50;
@@ -676,5 +744,62 @@ mod tests {
         let c = StressStrainCurve::new(strain, law, None, "law").unwrap();
         let fit = fit_hyperfoam(&c, &HyperfoamFitParams::default()).unwrap();
         assert!(!past(&fit), "{:?}", fit.warnings);
+    }
+
+    /// The curve of a hyperfoam under uniaxial compression at ε = 0.01 … 0.30.
+    fn sampled(m: &Hyperfoam) -> StressStrainCurve {
+        let strain: Vec<f64> = (1..=30).map(|i| 0.01 * i as f64).collect();
+        let stress = strain
+            .iter()
+            .map(|&e| -m.drive(Mode::Uniaxial, 1.0 - e).unwrap().nominal[0])
+            .collect();
+        StressStrainCurve::new(strain, stress, None, "sampled").unwrap()
+    }
+
+    #[test]
+    fn a_degenerate_two_term_fit_is_reported_as_the_one_term_card_it_is() {
+        // one-term data: a second term can only duplicate the first or vanish
+        let c = sampled(&Hyperfoam::new(&[0.01], &[8.4], &[0.0]).unwrap());
+        let p = HyperfoamFitParams {
+            terms: 2,
+            ..Default::default()
+        };
+        let fit = fit_hyperfoam(&c, &p).unwrap();
+        assert_eq!(fit.terms_requested, 2);
+        assert_eq!(fit.material.terms.len(), 1);
+        assert!(
+            fit.warnings[0].starts_with("2 terms requested, 1 used"),
+            "{:?}",
+            fit.warnings
+        );
+        // the one-term fit of exact one-term data: solver tolerance
+        assert!(fit.rms_rel < 1e-6, "{}", fit.rms_rel);
+        assert!((fit.material.terms[0].alpha / 8.4 - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn two_distinct_terms_that_the_data_need_are_kept() {
+        let c = sampled(&Hyperfoam::new(&[0.008, 0.002], &[2.0, 25.0], &[0.0, 0.0]).unwrap());
+        let p = HyperfoamFitParams {
+            terms: 2,
+            ..Default::default()
+        };
+        let fit = fit_hyperfoam(&c, &p).unwrap();
+        assert_eq!(fit.material.terms.len(), 2, "{:?}", fit.warnings);
+        assert!(fit.warnings.iter().all(|w| !w.contains("requested")));
+        assert!(fit.rms_rel < 1e-6, "{}", fit.rms_rel);
+    }
+
+    #[test]
+    fn redundancy_names_equal_alphas_and_negligible_terms() {
+        assert!(redundancy(&[1.0, 1.0], &[8.0, 20.0]).is_none());
+        assert!(redundancy(&[1.0], &[8.0]).is_none());
+        let w = redundancy(&[1.0, 1e-3], &[8.41, 8.41]).unwrap();
+        assert!(
+            w.contains("term 2 carries 1.0e-3") && w.contains("equal alpha"),
+            "{w}"
+        );
+        assert!(bound_warnings(&[0.01, 5.0])[0].starts_with("alpha1 = 0.0100 sits at the bound"));
+        assert!(bound_warnings(&[5.0]).is_empty());
     }
 }

@@ -10,7 +10,9 @@
 //!    lateral strain, if measured, fixes β; E⁰ pinned for an idealised law);
 //! 4. the relaxation (5.8) as a Prony series, from μ̄, τ or fitted to a relaxation curve
 //!    ([`prony`]);
-//! 5. the cards `material.json` and `material.inp` ([`card::MaterialCard`]), a summary, the
+//! 5. the fit-quality checks ([`quality`]): a misfit above its threshold, a degenerate or
+//!    collapsed tangent law, an α at its bound are warnings, printed and kept in the summary;
+//! 6. the cards `material.json` and `material.inp` ([`card::MaterialCard`]), a summary, the
 //!    curves and a plot ([`write_outputs`]).
 //!
 //! Entry points: [`run`] (pure: data in, card and fits out), [`write_outputs`] (the files),
@@ -21,6 +23,7 @@ pub mod curve;
 pub mod fit_hyperfoam;
 pub mod hyperfoam;
 pub mod prony;
+pub mod quality;
 pub mod tangent_law;
 
 use crate::numerics::least_squares as lsq;
@@ -144,8 +147,40 @@ pub struct HomogenizeOutput {
     pub prony_fit: Option<PronyFit>,
     /// the curve fitted (law samples or data)
     pub curve: StressStrainCurve,
+    /// every warning of the fits ([`fit_warnings`]), empty when all checks pass
+    pub warnings: Vec<String>,
     /// wall time of the fits, s
     pub seconds: f64,
+}
+
+/// Every warning of the fits: the hyperfoam's own (stability, terms dropped, α at a bound), the
+/// tangent law's constants against the curve, and each misfit over its threshold.
+fn fit_warnings(
+    hf: &HyperfoamFit,
+    law: &TangentLaw,
+    tangent_fit: Option<&TangentLawFit>,
+    curve: &StressStrainCurve,
+) -> Vec<String> {
+    let mut w = hf.warnings.clone();
+    w.extend(quality::law_warnings(
+        law,
+        &curve.strain,
+        &curve.stress,
+        tangent_fit.is_some(),
+    ));
+    if let Some(f) = tangent_fit {
+        w.extend(quality::misfit_warning(
+            "tangent-law (5.1) fit",
+            f.rms_rel,
+            None,
+        ));
+    }
+    w.extend(quality::misfit_warning(
+        "hyperfoam card",
+        hf.rms_rel,
+        Some(hf.max_rel),
+    ));
+    w
 }
 
 /// Run the stage: fit the tangent law (if needed), the hyperfoam and the relaxation; build the
@@ -220,16 +255,20 @@ pub fn run(params: &HomogenizeParams) -> Result<HomogenizeOutput, HomogenizeErro
             (Some(f.prony.clone()), Some(f), note)
         }
     };
-    // 5. the card
+    // 5. the checks
+    let warnings = fit_warnings(&hyperfoam_fit, &law, tangent_fit.as_ref(), &curve);
+    // 6. the card
     let mut fit_note = serde_json::json!({
         "hyperfoam": {
-            "terms": params.terms,
+            "terms_requested": params.terms,
+            "terms_used": hyperfoam_fit.material.terms.len(),
             "strain_range": [0.0, params.strain_max],
             "points": hyperfoam_fit.points,
             "lateral_strain": curve.lateral_strain.is_some(),
             "residual": "nominal compressive stress, least squares (Levenberg-Marquardt)",
             "fit_rms_rel": hyperfoam_fit.rms_rel,
-            "warnings": hyperfoam_fit.warnings,
+            "fit_max_rel": hyperfoam_fit.max_rel,
+            "warnings": warnings,
         },
         "tangent_law": if tangent_fit.is_some() { "fitted to the curve" } else { "given" },
         "relaxation": relax_note,
@@ -254,6 +293,7 @@ pub fn run(params: &HomogenizeParams) -> Result<HomogenizeOutput, HomogenizeErro
         hyperfoam_fit,
         prony_fit,
         curve,
+        warnings,
         seconds: clock.elapsed().as_secs_f64(),
     })
 }
@@ -273,7 +313,16 @@ pub struct Summary {
     pub fit_max_rel: f64,
     /// fitted range of nominal compressive strain
     pub strain_max: f64,
-    /// stability and fit warnings
+    /// hyperfoam terms asked for
+    pub terms_requested: usize,
+    /// hyperfoam terms on the card (fewer than asked when the fit was degenerate: the
+    /// warnings say why)
+    pub terms_used: usize,
+    /// the misfits against their warning thresholds ([`quality`]): `hyperfoam_rms_rel`,
+    /// `hyperfoam_max_rel`, `tangent_law_rms_rel` (fitted laws), `rms_warn`, `max_warn`, and
+    /// `acceptable` (no misfit over a threshold)
+    pub fit_quality: serde_json::Value,
+    /// stability, term, tangent-law and misfit warnings
     pub warnings: Vec<String>,
     /// cost: wall time (s) and solver iterations
     pub cost: serde_json::Value,
@@ -303,6 +352,19 @@ pub fn summary(out: &HomogenizeOutput, files: Vec<String>) -> Summary {
         None => serde_json::json!({"g": [], "k": [], "tau_s": []}),
     };
     let iterations = hf.info.iterations + out.tangent_fit.as_ref().map_or(0, |f| f.info.iterations);
+    let tangent_rms = out.tangent_fit.as_ref().map(|f| f.rms_rel);
+    let acceptable = quality::misfit_warning("", hf.rms_rel, Some(hf.max_rel)).is_none()
+        && tangent_rms.is_none_or(|r| quality::misfit_warning("", r, None).is_none());
+    let mut fit_quality = serde_json::json!({
+        "hyperfoam_rms_rel": hf.rms_rel,
+        "hyperfoam_max_rel": hf.max_rel,
+        "rms_warn": quality::RMS_WARN,
+        "max_warn": quality::MAX_WARN,
+        "acceptable": acceptable,
+    });
+    if let Some(r) = tangent_rms {
+        fit_quality["tangent_law_rms_rel"] = serde_json::json!(r);
+    }
     Summary {
         hyperfoam,
         tangent_law,
@@ -310,7 +372,10 @@ pub fn summary(out: &HomogenizeOutput, files: Vec<String>) -> Summary {
         fit_rms_rel: hf.rms_rel,
         fit_max_rel: hf.max_rel,
         strain_max: hf.strain_max,
-        warnings: hf.warnings.clone(),
+        terms_requested: hf.terms_requested,
+        terms_used: m.terms.len(),
+        fit_quality,
+        warnings: out.warnings.clone(),
         cost: serde_json::json!({"time_s": out.seconds, "solver_iterations": iterations}),
         files,
     }
@@ -320,17 +385,10 @@ pub fn summary(out: &HomogenizeOutput, files: Vec<String>) -> Summary {
 /// `plots/homogenize.{svg,png}` (as the seed's Fig 5.2) and `summary.json` into `dir`.
 pub fn write_outputs(out: &HomogenizeOutput, dir: &Path) -> Result<Summary, HomogenizeError> {
     use crate::report::{csv::Table, plot::Plot, plot::Series, write_atomic, write_json};
-    let files: Vec<String> = [
-        "material.json",
-        "material.inp",
-        "homogenize.csv",
-        "plots/homogenize.svg",
-        "plots/homogenize.png",
-        "summary.json",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+    let mut files: Vec<String> = ["material.json", "material.inp", "homogenize.csv"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
     write_json(&dir.join("material.json"), &out.card.to_json())?;
     write_atomic(&dir.join("material.inp"), out.card.to_inp().as_bytes())?;
     let c = &out.curve;
@@ -380,8 +438,16 @@ pub fn write_outputs(out: &HomogenizeOutput, dir: &Path) -> Result<Summary, Homo
     plot = plot
         .with(Series::dashed("tangent law (5.1)", xs.clone(), law_s))
         .with(Series::line("hyperfoam fit", xs, hf_s));
-    plot.write(&dir.join("plots"), "homogenize")?;
-    let s = summary(out, files);
+    let mut plot_warnings = Vec::new();
+    files.extend(plot.write_or_warn(
+        &dir.join("plots"),
+        "homogenize",
+        "plots",
+        &mut plot_warnings,
+    ));
+    files.push("summary.json".into());
+    let mut s = summary(out, files);
+    s.warnings.extend(plot_warnings);
     write_json(&dir.join("summary.json"), &s)?;
     Ok(s)
 }

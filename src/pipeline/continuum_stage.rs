@@ -34,6 +34,7 @@ use crate::scene::solver::{Kinematics, Method};
 use crate::scene::{ResolvedScene, Stage};
 use serde::Serialize;
 use std::collections::BTreeMap;
+use std::path::PathBuf;
 
 fn failed(message: String) -> StageError {
     StageError::Failed {
@@ -383,16 +384,23 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             Err(e) => return Err(failed(e.to_string())),
         };
     let dir = ctx.out_dir.join("continuum");
-    result.write(&dir).map_err(|source| StageError::Report {
+    let written = result.write(&dir).map_err(|source| StageError::Report {
         stage: Stage::Continuum,
         source,
     })?;
     if let Some(why) = failure {
-        return Err(failed(format!(
+        let message = format!(
             "stopped after {} converged increments ({}); the rows so far are in continuum/",
             result.rows.len(),
             why
-        )));
+        );
+        return Err(match crate::interrupt::requested() {
+            true => StageError::Interrupted {
+                stage: Stage::Continuum,
+                message,
+            },
+            false => failed(message),
+        });
     }
     let rows = &result.rows;
     let peak = rows
@@ -456,11 +464,12 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         values,
         tables: Vec::new(),
         evaluations: rows.iter().map(|r| r.iterations as u64).sum(),
-        files: vec![
-            "continuum/load_depth.csv".into(),
-            "continuum/summary.json".into(),
-            "continuum/plots/load_depth.svg".into(),
-        ],
+        files: ["load_depth.csv".to_string(), "summary.json".to_string()]
+            .into_iter()
+            .chain(written.plots)
+            .map(|f| PathBuf::from("continuum").join(f))
+            .collect(),
+        warnings: written.warnings,
     })
 }
 

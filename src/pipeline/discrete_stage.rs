@@ -30,7 +30,9 @@ use super::{StageContext, StageError, StageOutput};
 use crate::discrete::analysis::{Branch, CurveAnalysis};
 use crate::discrete::broadphase::PeriodicBox;
 use crate::discrete::checkpoint::{Checkpoint, SavedRelaxation};
-use crate::discrete::drive::{compress, CompressionParams, Resume, SavedStep, StepRecord};
+use crate::discrete::drive::{
+    compress, CompressionParams, DriveError, Resume, SavedStep, StepRecord,
+};
 use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
 use crate::discrete::model::{relax, State, StaticSolver, TurfSystem};
 use crate::discrete::platen::{Shape, DEFAULT_WALL_STIFFNESS};
@@ -184,6 +186,8 @@ struct Finished {
     /// files written, relative to the output folder
     files: Vec<PathBuf>,
     evaluations: u64,
+    /// plots that could not be written
+    warnings: Vec<String>,
 }
 
 impl Finished {
@@ -194,6 +198,7 @@ impl Finished {
             tables: vec![("tangent".into(), self.tangent)],
             evaluations: self.evaluations,
             files: self.files,
+            warnings: self.warnings,
         }
     }
 }
@@ -358,7 +363,14 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
             } else {
                 String::new()
             };
-            return Err(failed(format!("{e}{kept}")));
+            let message = format!("{e}{kept}");
+            return Err(match e {
+                DriveError::Interrupted { .. } => StageError::Interrupted {
+                    stage: Stage::Discrete,
+                    message: format!("{message}; `turf run --resume` continues from it"),
+                },
+                _ => failed(message),
+            });
         }
     };
     if let Some(e) = side_error {
@@ -414,9 +426,14 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     write_json(&ctx.out_dir.join(&analysis_file), &analysis_json(&analysis)).map_err(report)?;
     files.push(analysis_file);
     // the other realisations' curves are in the ensemble's band plot
+    // realisation 0's fit speaks for a single run (an ensemble adds its mean curve's)
+    let mut warnings = match job.index {
+        0 => analysis.fit_warnings(),
+        _ => Vec::new(),
+    };
     if s.output.plots && job.index == 0 {
         files.extend(
-            write_plots(&analysis, &records, &ctx.out_dir.join(&rel))?
+            write_plots(&analysis, &records, &ctx.out_dir.join(&rel), &mut warnings)
                 .into_iter()
                 .map(|f| rel.join(f)),
         );
@@ -489,6 +506,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         tangent,
         files,
         evaluations: evaluations as u64,
+        warnings,
     })
 }
 
@@ -578,7 +596,10 @@ fn ensemble_output(
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     let scalars = ensemble::reduce_values(&names, finished.iter().map(|f| &f.values));
 
-    let mut out = StageOutput::default();
+    let mut out = StageOutput {
+        warnings: finished.iter().flat_map(|f| f.warnings.clone()).collect(),
+        ..StageOutput::default()
+    };
     let mut files: Vec<PathBuf> = Vec::new();
     let write = |table: Table, name: &str, files: &mut Vec<PathBuf>| -> Result<(), StageError> {
         table.write(&ctx.out_dir.join(name)).map_err(report)?;
@@ -596,6 +617,9 @@ fn ensemble_output(
         write(branch_table(u), ENSEMBLE_UNLOADING_CSV, &mut files)?;
     }
     let mean_analysis = CurveAnalysis::new(mean_loading, mean_unloading);
+    let mean_warnings = mean_analysis.fit_warnings().into_iter();
+    out.warnings
+        .extend(mean_warnings.map(|w| format!("mean curve of the realisations: {w}")));
     let mut estimates = serde_json::Map::new();
     for ((base, unit), name) in ENSEMBLE_SCALARS.iter().zip(&names) {
         if let Some(e) = scalars.get(*name) {
@@ -630,12 +654,13 @@ fn ensemble_output(
     write_json(&ctx.out_dir.join(ENSEMBLE_JSON), &json).map_err(report)?;
     files.push(ENSEMBLE_JSON.into());
     if s.output.plots {
-        ensemble
-            .plot()
-            .write(&ctx.out_dir.join("plots"), "discrete_ensemble")
-            .map_err(report)?;
-        files.push("plots/discrete_ensemble.svg".into());
-        files.push("plots/discrete_ensemble.png".into());
+        let written = ensemble.plot().write_or_warn(
+            &ctx.out_dir.join("plots"),
+            "discrete_ensemble",
+            "plots",
+            &mut out.warnings,
+        );
+        files.extend(written.into_iter().map(PathBuf::from));
     }
     out.values.insert("realisations".into(), count as f64);
     out.values
@@ -747,6 +772,7 @@ fn run_rods(
         tables: vec![("rods_nodes".into(), nodes)],
         evaluations: info.cost.gradient_evaluations as u64,
         files,
+        warnings: Vec::new(),
     })
 }
 
@@ -952,12 +978,14 @@ fn analysis_json(a: &CurveAnalysis) -> serde_json::Value {
     json
 }
 
-/// The realisation's plots under `out/plots`; returns their paths relative to `out`.
+/// The realisation's plots under `out/plots`; returns the paths written, relative to `out`
+/// (a plot that cannot be written is a warning).
 fn write_plots(
     a: &CurveAnalysis,
     records: &[StepRecord],
     out: &Path,
-) -> Result<Vec<PathBuf>, StageError> {
+    warnings: &mut Vec<String>,
+) -> Vec<PathBuf> {
     let dir = out.join("plots");
     let mut stress =
         Plot::new("Turf compression", "nominal strain", "nominal stress (GPa)").with(Series::line(
@@ -1011,11 +1039,10 @@ fn write_plots(
         (energy, "discrete_energy"),
         (contacts, "discrete_contacts"),
     ] {
-        plot.write(&dir, stem).map_err(report)?;
-        files.push(format!("plots/{stem}.svg").into());
-        files.push(format!("plots/{stem}.png").into());
+        let written = plot.write_or_warn(&dir, stem, "plots", warnings);
+        files.extend(written.into_iter().map(PathBuf::from));
     }
-    Ok(files)
+    files
 }
 
 /// The tubes at configuration `x` as VTK polylines, with the tube index and radius per cell.

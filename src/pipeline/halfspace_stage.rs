@@ -84,24 +84,24 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
                 .map(|p| p.central_gap * sc.gap)
                 .collect(),
         );
-    Plot::new(
+    let mut warnings = Vec::new();
+    let files = Plot::new(
         "Half-space with LJ adhesion",
         "approach δ (nm)",
         "load P (nN)",
     )
     .with(Series::line("half-space", depth, load))
-    .write(&ctx.out_dir.join("plots"), "halfspace_load_depth")
-    .map_err(|source| StageError::Report {
-        stage: Stage::Halfspace,
-        source,
-    })?;
+    .write_or_warn(
+        &ctx.out_dir.join("plots"),
+        "halfspace_load_depth",
+        "plots",
+        &mut warnings,
+    );
     Ok(StageOutput {
         values,
         tables: vec![("curve".into(), table)],
         evaluations,
-        files: vec![
-            "plots/halfspace_load_depth.svg".into(),
-            "plots/halfspace_load_depth.png".into(),
-        ],
+        files: files.into_iter().map(Into::into).collect(),
+        warnings,
     })
 }

@@ -73,12 +73,6 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     };
     let params = fit_params(h, s, source)?;
     let out = homogenize::run(&params).map_err(|e| failed(e.to_string()))?;
-    // on a terminal the warnings show as they arise; they are always in homogenize/summary.json
-    if let Some(bar) = ctx.progress {
-        for w in &out.hyperfoam_fit.warnings {
-            bar.println(format!("homogenize: warning: {w}"));
-        }
-    }
     let report = |source| StageError::Report {
         stage: Stage::Homogenize,
         source,
@@ -90,6 +84,14 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         ("fit_rms_rel".to_string(), summary.fit_rms_rel),
         ("fit_max_rel".to_string(), summary.fit_max_rel),
         ("strain_max".to_string(), summary.strain_max),
+        (
+            "hyperfoam_terms_requested".to_string(),
+            summary.terms_requested as f64,
+        ),
+        (
+            "hyperfoam_terms_used".to_string(),
+            summary.terms_used as f64,
+        ),
         ("wall_time_fit_s".to_string(), out.seconds),
     ]);
     let m = &out.hyperfoam_fit.material;
@@ -110,6 +112,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         tables: Vec::new(),
         evaluations: out.hyperfoam_fit.info.evaluations as u64,
         files: files.into_iter().map(Into::into).collect(),
+        warnings: summary.warnings.clone(),
     })
 }
 

@@ -11,10 +11,12 @@
 //!
 //! `summary.json`: `turf_version`, `file`, `units` (the internal units), `scene` (the fully
 //! resolved scene in internal units), `derived`, `plan`, then either `stages` (one record per
-//! stage run: `stage`, `wall_time_s`, `evaluations`, `values`, `files`, `cached`, and
-//! `cache_key` for a cached stage) or, for a `[sweep]`,
+//! stage run: `stage`, `wall_time_s`, `evaluations`, `values`, `files`, `cached`,
+//! `cache_key` for a cached stage, and `warnings` when the stage has any) or, for a `[sweep]`,
 //! `sweep` (`key` and one entry per value with its own `derived` and `stages`), and `error`
-//! when the run stopped early (`complete` says whether every stage ran).
+//! when the run stopped early (`complete` says whether every stage ran); `stale_files` lists
+//! files an earlier run into the same folder wrote and this one did not (reported on the
+//! terminal too, never deleted).
 //!
 //! The `discrete` and `homogenize` stages are cached under `cache/` in the output folder by a
 //! hash of their inputs ([`cache`]): a re-run whose inputs to them did not change (only FE
@@ -36,7 +38,7 @@ mod theory_stage;
 use crate::report::{csv::Table, write_json, ReportError};
 use crate::scene::{Loaded, ResolvedScene, Stage};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -65,6 +67,9 @@ pub struct StageOutput {
     pub evaluations: u64,
     /// other files the stage wrote (plots, VTK, cards), relative to the output folder
     pub files: Vec<PathBuf>,
+    /// what the user must know about the answer (a fit that misses its data, a file that
+    /// could not be written); printed on the terminal and kept in `summary.json`
+    pub warnings: Vec<String>,
 }
 
 /// Why a stage did not give an answer.
@@ -79,6 +84,14 @@ pub enum StageError {
         /// the stage
         stage: Stage,
         /// the engine's diagnostics
+        message: String,
+    },
+    /// an interrupt ([`crate::interrupt`]) stopped the stage; what it reached is kept
+    #[error("stage '{stage}' interrupted: {message}")]
+    Interrupted {
+        /// the stage
+        stage: Stage,
+        /// where it stopped and what was kept
         message: String,
     },
     /// the stage's results could not be written
@@ -109,6 +122,9 @@ pub struct StageRecord {
     /// the stage's cache key (cached stages only), 16 hex digits
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cache_key: Option<String>,
+    /// the stage's warnings (fit quality, files not written), empty when there are none
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Run the engine of `stage`. Each engine plugs in as one arm `Stage::X => x_stage::run(..)`.
@@ -215,6 +231,10 @@ pub struct Summary {
     /// why the run stopped early
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// files an earlier run in this folder recorded in its `summary.json` that this run did
+    /// not write (kept, never deleted: [`stale_files`])
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stale_files: Vec<String>,
 }
 
 /// What a run produced.
@@ -260,8 +280,15 @@ pub fn run_with(
         sweep: None,
         complete: false,
         error: None,
+        stale_files: Vec::new(),
     };
+    // the folder first: one clear error, before any stage runs, when it cannot be made
+    std::fs::create_dir_all(&out_dir).map_err(|cause| ReportError::Io {
+        path: out_dir.display().to_string(),
+        cause,
+    })?;
     let summary_path = out_dir.join("summary.json");
+    let earlier = earlier_files(&summary_path);
     let points: Vec<(Option<&toml::Value>, &ResolvedScene)> = if loaded.sweep.is_empty() {
         vec![(None, base)]
     } else {
@@ -322,11 +349,15 @@ pub fn run_with(
             }
             match result {
                 Ok(record) => done.push(record),
-                Err(e) => {
-                    summary.error = Some(e.to_string());
-                    failure = Some(e);
-                }
+                Err(e) => failure = Some(e),
             }
+            if failure.is_none() && crate::interrupt::requested() {
+                failure = Some(StageError::Interrupted {
+                    stage,
+                    message: format!("{}, after the stage finished", crate::interrupt::REASON),
+                });
+            }
+            summary.error = failure.as_ref().map(|e| e.to_string());
             store(&mut summary, &done, value.is_some());
             write_json(&summary_path, &summary)?;
             if failure.is_some() {
@@ -338,6 +369,20 @@ pub fn run_with(
         b.finish_and_clear();
     }
     summary.complete = failure.is_none();
+    summary.stale_files = stale_files(&earlier, &summary, &out_dir);
+    if !summary.stale_files.is_empty() {
+        say(
+            None,
+            &format!(
+                "warning: {} file(s) in {} come from an earlier run and were not written by this \
+                 one (listed as stale_files in summary.json; remove them or run into a fresh \
+                 --out): {}",
+                summary.stale_files.len(),
+                out_dir.display(),
+                summary.stale_files.join(", ")
+            ),
+        );
+    }
     write_json(&summary_path, &summary)?;
     crate::report::markdown::write_run_report(&summary, &out_dir)?;
     Ok(RunReport {
@@ -345,6 +390,55 @@ pub fn run_with(
         summary,
         failure,
     })
+}
+
+/// The files a `summary.json` lists (each stage's `files`, a sweep point's under its `dir`,
+/// and the `stale_files` it reported in turn), relative to the output folder.
+fn listed_files(summary: &serde_json::Value) -> BTreeSet<String> {
+    let stage_files = |stages: &serde_json::Value, dir: &str| -> Vec<String> {
+        let files = stages.as_array().into_iter().flatten().flat_map(|s| {
+            s["files"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .filter_map(|f| f.as_str())
+        });
+        files
+            .map(|f| match dir {
+                "" => f.to_string(),
+                d => format!("{d}/{f}"),
+            })
+            .collect()
+    };
+    let mut all: BTreeSet<String> = stage_files(&summary["stages"], "").into_iter().collect();
+    for p in summary["sweep"]["points"].as_array().into_iter().flatten() {
+        all.extend(stage_files(&p["stages"], p["dir"].as_str().unwrap_or("")));
+    }
+    let stale = summary["stale_files"].as_array().into_iter().flatten();
+    all.extend(stale.filter_map(|f| f.as_str()).map(str::to_string));
+    all
+}
+
+/// The files the `summary.json` at `path` (an earlier run's, if any) lists.
+fn earlier_files(path: &Path) -> BTreeSet<String> {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .map_or_else(BTreeSet::new, |v| listed_files(&v))
+}
+
+/// The files an earlier run listed that this run did not write and that are still in
+/// `out_dir`. They are reported, not deleted: the folder may be one the user chose with
+/// `--out` and still holds results they want to compare (docs/scenes.md, "Output folder").
+fn stale_files(earlier: &BTreeSet<String>, summary: &Summary, out_dir: &Path) -> Vec<String> {
+    let mut written = summary.clone();
+    written.stale_files.clear();
+    let now = serde_json::to_value(&written).map_or_else(|_| BTreeSet::new(), |v| listed_files(&v));
+    earlier
+        .difference(&now)
+        .filter(|f| out_dir.join(f).is_file())
+        .cloned()
+        .collect()
 }
 
 /// Put the current point's records into the summary.
@@ -380,10 +474,7 @@ fn run_cached(
             "{stage}: inputs unchanged, reused {} (not recomputed)",
             cache::entry_name(stage, &key)
         );
-        match progress {
-            Some(bar) => bar.println(line),
-            None => eprintln!("{line}"),
-        }
+        say(progress, &line);
         return Ok(record);
     }
     let mut record = run_one(stage, scene, ctx, runner)?;
@@ -409,6 +500,9 @@ fn run_one(
             message: format!("the engine returned a non-finite value for {name}"),
         });
     }
+    for w in &out.warnings {
+        say(ctx.progress, &format!("{stage}: warning: {w}"));
+    }
     let mut files: Vec<String> = out.files.iter().map(|f| f.display().to_string()).collect();
     for (name, table) in &out.tables {
         let file = format!("{stage}_{name}.csv");
@@ -425,7 +519,16 @@ fn run_one(
         files,
         cached: false,
         cache_key: None,
+        warnings: out.warnings,
     })
+}
+
+/// A line for the user on stderr: above the progress bar when there is one.
+pub(crate) fn say(progress: Option<&indicatif::ProgressBar>, line: &str) {
+    match progress {
+        Some(bar) => bar.println(line),
+        None => eprintln!("{line}"),
+    }
 }
 
 /// A progress bar over `len` steps counted in `unit` (stages, tasks).
@@ -519,7 +622,7 @@ cells_per_zone = 12
                         Table::new().column("depth_nm", vec![0.0, 1.0]),
                     )],
                     evaluations: 3,
-                    files: Vec::new(),
+                    ..StageOutput::default()
                 })
             }
             _ => {

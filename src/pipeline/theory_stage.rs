@@ -115,19 +115,18 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
                 .column("hertz_load_nN", load)
         }
     };
-    let plots = ctx.out_dir.join("plots");
-    plot.write(&plots, "theory_load_depth")
-        .map_err(|source| StageError::Report {
-            stage: Stage::Theory,
-            source,
-        })?;
+    let mut warnings = Vec::new();
+    let files = plot.write_or_warn(
+        &ctx.out_dir.join("plots"),
+        "theory_load_depth",
+        "plots",
+        &mut warnings,
+    );
     Ok(StageOutput {
         values,
         tables: vec![("curves".into(), table)],
         evaluations,
-        files: vec![
-            "plots/theory_load_depth.svg".into(),
-            "plots/theory_load_depth.png".into(),
-        ],
+        files: files.into_iter().map(Into::into).collect(),
+        warnings,
     })
 }

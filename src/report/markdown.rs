@@ -46,6 +46,19 @@ pub fn render(summary: &Value, dir: &Path) -> String {
         s,
         "- units: every number in internal units (nm, nN, s; GPa, aJ, J/m^2)"
     );
+    let stale: Vec<String> = summary["stale_files"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(text)
+        .collect();
+    if !stale.is_empty() {
+        let _ = writeln!(
+            s,
+            "- **stale files** from an earlier run in this folder, not written by this one: {}",
+            stale.join(", ")
+        );
+    }
     plan(&mut s, &summary["plan"]);
     match summary["sweep"].as_object() {
         Some(sw) => {
@@ -166,6 +179,9 @@ fn stages(s: &mut String, records: &Value, sub: &str, dir: &Path, level: &str) {
             i + 1,
             text(&r["stage"])
         );
+        for w in r["warnings"].as_array().into_iter().flatten() {
+            let _ = writeln!(s, "- **warning:** {}", text(w));
+        }
         if let Some(values) = r["values"].as_object().filter(|v| !v.is_empty()) {
             let _ = writeln!(s, "| value | |\n|---|---|");
             for (k, v) in values {

@@ -2,8 +2,10 @@
 //! the per-run Markdown report.
 //!
 //! Every file is written atomically ([`write_atomic`]): to a temporary file beside the target,
-//! then renamed, so an interrupted run never leaves a half-written result. Non-finite numbers
-//! are refused before anything is written.
+//! then renamed, so an interrupted run never leaves a half-written result; a write that fails
+//! (a full disk) removes its temporary file. Non-finite numbers are refused before anything is
+//! written. A plot is an illustration: a stage that cannot write one says so in a warning
+//! ([`plot::write_or_warn`]) and keeps its other results.
 
 pub mod csv;
 pub mod markdown;
@@ -64,11 +66,29 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ReportError> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-    let mut f = std::fs::File::create(&tmp).map_err(io)?;
-    f.write_all(bytes).map_err(io)?;
-    f.sync_all().map_err(io)?;
-    drop(f);
-    std::fs::rename(&tmp, path).map_err(io)
+    let written = std::fs::File::create(&tmp).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    finish_temp(&tmp, path, written)
+}
+
+/// Rename the temporary file `tmp` onto `path` once `written` succeeded; on any failure remove
+/// `tmp` (a full disk must not leave half-written temporaries behind) and name `path` and the
+/// OS's reason.
+pub(crate) fn finish_temp(
+    tmp: &Path,
+    path: &Path,
+    written: std::io::Result<()>,
+) -> Result<(), ReportError> {
+    let result = written.and_then(|()| std::fs::rename(tmp, path));
+    result.map_err(|cause| {
+        let _ = std::fs::remove_file(tmp);
+        ReportError::Io {
+            path: path.display().to_string(),
+            cause,
+        }
+    })
 }
 
 /// Write a JSON value atomically (pretty-printed), refusing any non-finite number.
@@ -115,6 +135,24 @@ fn first_null_number(v: &serde_json::Value, at: String) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_failed_write_removes_its_temporary_file_and_names_the_path() {
+        let dir = std::env::temp_dir().join(format!("turf-report-fail-{}", std::process::id()));
+        std::fs::remove_dir_all(&dir).ok();
+        // a folder where the file should be: the rename onto it fails for every user
+        let path = dir.join("summary.json");
+        std::fs::create_dir_all(&path).unwrap();
+        let e = write_atomic(&path, b"{}").unwrap_err();
+        assert!(e.to_string().contains("summary.json"), "{e}");
+        let names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["summary.json"], "the temporary file is gone");
+        std::fs::remove_dir_all(dir).ok();
+    }
 
     #[test]
     fn json_with_nan_is_refused_and_nothing_is_written() {

@@ -153,14 +153,37 @@ impl Plot {
         // The bitmap backend encodes to a file itself: draw into a temporary name, then rename.
         let png_path = dir.join(format!("{stem}.png"));
         let tmp = dir.join(format!(".{stem}.tmp{}.png", std::process::id()));
-        {
+        let drawn = {
             let root = BitMapBackend::new(&tmp, (1000, 700)).into_drawing_area();
-            self.draw(&root, &png_path)?;
+            self.draw(&root, &png_path)
+        };
+        if let Err(e) = drawn {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e);
         }
-        std::fs::rename(&tmp, &png_path).map_err(|cause| ReportError::Io {
-            path: png_path.display().to_string(),
-            cause,
-        })
+        super::finish_temp(&tmp, &png_path, Ok(()))
+    }
+
+    /// Write the plot ([`Plot::write`]) as `<stem>.svg` and `<stem>.png` in `dir`, returning
+    /// the two file names under `rel` (the folder as the caller lists it, e.g. `plots`). A
+    /// plot that cannot be written does not stop the caller: the failure, naming the file and
+    /// the OS's reason, goes into `warnings` and no file is returned.
+    pub fn write_or_warn(
+        &self,
+        dir: &Path,
+        stem: &str,
+        rel: &str,
+        warnings: &mut Vec<String>,
+    ) -> Vec<String> {
+        match self.write(dir, stem) {
+            Ok(()) => vec![format!("{rel}/{stem}.svg"), format!("{rel}/{stem}.png")],
+            Err(e) => {
+                warnings.push(format!(
+                    "plot not written ({e}); the other results are kept"
+                ));
+                Vec::new()
+            }
+        }
     }
 
     fn bounds(&self) -> ((f64, f64), (f64, f64)) {
@@ -381,6 +404,30 @@ mod tests {
         assert!(svg.contains("sine") && svg.contains("x (nm)"));
         let png = std::fs::read(dir.join("sine.png")).unwrap();
         assert_eq!(&png[1..4], b"PNG");
+        std::fs::remove_dir_all(dir).ok();
+    }
+
+    #[test]
+    fn a_plot_that_cannot_be_written_is_a_warning_and_leaves_no_temporary_file() {
+        let dir = std::env::temp_dir().join(format!("turf-plot-fail-{}", std::process::id()));
+        std::fs::remove_dir_all(&dir).ok();
+        // a folder where the PNG should go: the SVG is written, the PNG's rename fails
+        std::fs::create_dir_all(dir.join("p.png")).unwrap();
+        let plot = Plot::new("p", "x", "y").with(Series::line("l", vec![0.0, 1.0], vec![0.0, 1.0]));
+        let mut warnings = Vec::new();
+        let files = plot.write_or_warn(&dir, "p", "plots", &mut warnings);
+        assert!(files.is_empty());
+        assert_eq!(warnings.len(), 1);
+        assert!(
+            warnings[0].contains("p.png") && warnings[0].contains("os error"),
+            "{warnings:?}"
+        );
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(left.iter().all(|n| !n.contains(".tmp")), "{left:?}");
         std::fs::remove_dir_all(dir).ok();
     }
 }

@@ -27,6 +27,7 @@ pub const MAX_TERMS: usize = crate::homogenize::fit_hyperfoam::MAX_FIT_TERMS;
 #[serde(deny_unknown_fields)]
 pub struct Homogenize {
     /// Hyperfoam terms N, 1 to 3 (as `turf homogenize --terms`). Default 1 (the seed's Table 5.1).
+    /// At most: a degenerate term is dropped and the stage says so (`hyperfoam_terms_used`).
     #[serde(default = "default_terms")]
     pub terms: usize,
     /// Largest nominal compressive strain fitted, in (0, 1). Default: `compression.to`, or 0.3

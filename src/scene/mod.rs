@@ -257,9 +257,14 @@ impl Context<'_> {
                 "is empty: give at least one value".into(),
             )]));
         }
-        let mut points = Vec::new();
+        // Each point is resolved from the scene without its `[sweep]` table: the values list
+        // would otherwise be copied, written and re-read once per point (quadratic in the
+        // number of values), and a point's scene is one value, not the sweep.
+        let mut without_sweep = doc.clone();
+        without_sweep.remove("sweep");
+        let mut points = Vec::with_capacity(s.values.len());
         for (i, value) in s.values.iter().enumerate() {
-            let mut d = doc.clone();
+            let mut d = without_sweep.clone();
             overrides::set(&mut d, &steps, value.clone()).map_err(bad)?;
             let scene = self.resolve_doc(&d).map_err(|e| {
                 let detail = match &e {

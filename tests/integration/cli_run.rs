@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn turf(args: &[&str]) -> Output {
+/// Run the `turf` binary from the crate's folder.
+pub(crate) fn turf(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_turf"))
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
@@ -12,7 +13,8 @@ fn turf(args: &[&str]) -> Output {
         .expect("the turf binary runs")
 }
 
-fn text(b: &[u8]) -> String {
+/// Bytes of an output as text.
+pub(crate) fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 

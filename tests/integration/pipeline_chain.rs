@@ -98,6 +98,7 @@ fn stand_in(
         tables: vec![("t".into(), Table::new().column("x", vec![length]))],
         evaluations: 7,
         files: vec![file.into()],
+        ..StageOutput::default()
     })
 }
 

@@ -55,6 +55,7 @@ fn a_failed_run_reports_each_stage_its_cost_its_plot_and_the_failure() {
                     "plots/theory_curve.svg".into(),
                     "plots/theory_curve.png".into(),
                 ],
+                ..StageOutput::default()
             })
         }
         _ => Err(StageError::Failed {

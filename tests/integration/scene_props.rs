@@ -8,7 +8,7 @@ use toml::{Table, Value};
 use turf::scene::load_str;
 use turf::scene::overrides::{set, Step};
 
-const SCENES: [&str; 5] = [
+pub(crate) const SCENES: [&str; 5] = [
     include_str!("../../scenes/jkr_sphere.toml"),
     include_str!("../../scenes/hertz.toml"),
     include_str!("../../scenes/hyperfoam_indent.toml"),
@@ -118,9 +118,56 @@ fn assert_finite(v: &serde_json::Value) {
     }
 }
 
-fn check(text: &str) {
+/// Load `text`; an accepted scene must have a plan and no non-finite number.
+pub(crate) fn check(text: &str) {
     if let Ok(loaded) = load_str(text, Path::new("prop.toml"), &[]) {
         assert!(!loaded.base.plan.stages.is_empty());
+        assert_finite(&serde_json::to_value(&loaded).unwrap());
+    }
+}
+
+/// Text shaped like TOML: section headers and `key = value` lines of assorted kinds.
+pub(crate) const TOML_LIKE: &str =
+    "(\\[[a-z.]{1,12}\\]\n|[a-z_]{1,8} = (\"[-0-9a-z /^.]{0,10}\"|[-0-9.e]{1,6}|true|\\[\\])\n){0,12}";
+
+/// An example scene with one to three keys deleted or replaced by garbage, as TOML text.
+pub(crate) fn mutated_scene() -> impl Strategy<Value = String> {
+    (0..SCENES.len(), prop::collection::vec(mutation(), 1..4))
+        .prop_map(|(which, muts)| mutate(SCENES[which], muts))
+}
+
+/// Apply `muts` in turn to the scene `text`; each picks its key path modulo the paths present.
+fn mutate(text: &str, muts: Vec<Mutation>) -> String {
+    let mut doc: Table = text.parse().unwrap();
+    for m in muts {
+        let mut all = Vec::new();
+        paths(&Value::Table(doc.clone()), Vec::new(), &mut all);
+        if all.is_empty() {
+            break;
+        }
+        match m {
+            Mutation::Delete(i) => delete(&mut doc, &all[i % all.len()]),
+            Mutation::Replace(i, v) => {
+                let _ = set(&mut doc, &all[i % all.len()], v);
+            }
+        }
+    }
+    toml::to_string(&doc).unwrap()
+}
+
+/// An example scene's index and a random `--set KEY=VALUE` argument.
+pub(crate) fn set_argument() -> impl Strategy<Value = (usize, String)> {
+    (
+        0..SCENES.len(),
+        "[a-z_]{1,10}(\\.[a-z_0-9]{1,10}){0,2}(\\[[0-9]\\])?",
+        "[-0-9a-zA-Z \\[\\]\",./^=]{0,16}",
+    )
+        .prop_map(|(which, key, value)| (which, format!("{key}={value}")))
+}
+
+/// Load example scene `which` with the override `arg`; accepted, it must be finite.
+pub(crate) fn check_set(which: usize, arg: &str) {
+    if let Ok(loaded) = load_str(SCENES[which], Path::new("prop.toml"), &[arg.to_string()]) {
         assert_finite(&serde_json::to_value(&loaded).unwrap());
     }
 }
@@ -134,41 +181,17 @@ proptest! {
     }
 
     #[test]
-    fn arbitrary_toml_like_text_never_panics(
-        text in "(\\[[a-z.]{1,12}\\]\n|[a-z_]{1,8} = (\"[-0-9a-z /^.]{0,10}\"|[-0-9.e]{1,6}|true|\\[\\])\n){0,12}"
-    ) {
+    fn arbitrary_toml_like_text_never_panics(text in TOML_LIKE) {
         check(&text);
     }
 
     #[test]
-    fn mutated_scenes_never_panic(which in 0..SCENES.len(), muts in prop::collection::vec(mutation(), 1..4)) {
-        let mut doc: Table = SCENES[which].parse().unwrap();
-        for m in muts {
-            let mut all = Vec::new();
-            paths(&Value::Table(doc.clone()), Vec::new(), &mut all);
-            if all.is_empty() {
-                break;
-            }
-            match m {
-                Mutation::Delete(i) => delete(&mut doc, &all[i % all.len()]),
-                Mutation::Replace(i, v) => {
-                    let _ = set(&mut doc, &all[i % all.len()], v);
-                }
-            }
-        }
-        let text = toml::to_string(&doc).unwrap();
+    fn mutated_scenes_never_panic(text in mutated_scene()) {
         check(&text);
     }
 
     #[test]
-    fn random_set_arguments_never_panic(
-        which in 0..SCENES.len(),
-        key in "[a-z_]{1,10}(\\.[a-z_0-9]{1,10}){0,2}(\\[[0-9]\\])?",
-        value in "[-0-9a-zA-Z \\[\\]\",./^=]{0,16}",
-    ) {
-        let arg = format!("{key}={value}");
-        if let Ok(loaded) = load_str(SCENES[which], Path::new("prop.toml"), &[arg]) {
-            assert_finite(&serde_json::to_value(&loaded).unwrap());
-        }
+    fn random_set_arguments_never_panic((which, arg) in set_argument()) {
+        check_set(which, &arg);
     }
 }
