@@ -6,8 +6,9 @@
 //! every step's record (strain, stress, energies, contacts) is a function of its configuration
 //! alone (the contact list is sorted and rebuilt from the positions, so its history does not
 //! change a sum). A checkpoint therefore holds no random numbers and no solver state: the
-//! platen's start height H₀, and for every step reached its node positions and what its solve
-//! cost. The positions read back bit for bit (serde_json's `float_roundtrip`): the resumed
+//! platen's start height H₀, and for every step reached its node positions, the nodes the
+//! sphere held during its solve (the stick option's anchors: path-dependent state, absent from
+//! the file without that option) and what its solve cost. The positions read back bit for bit (serde_json's `float_roundtrip`): the resumed
 //! solve must start from the very same configuration. With them the checkpoint holds the relaxation's report and the text of the
 //! scene's `[turf]` and `[compression]` sections, so that a checkpoint of another scene is
 //! refused rather than continued.
@@ -169,6 +170,7 @@ impl Checkpoint {
 mod tests {
     use super::*;
     use crate::discrete::solve::Cost;
+    use crate::discrete::sphere_stick::Anchor;
 
     /// A checkpoint path in a folder that does not exist yet (`save` creates it).
     fn temp(name: &str) -> std::path::PathBuf {
@@ -184,6 +186,7 @@ mod tests {
             SavedStep {
                 cost: Cost::default(),
                 x: x.clone(),
+                anchors: Vec::new(),
             },
             SavedStep {
                 cost: Cost {
@@ -194,6 +197,11 @@ mod tests {
                     seconds: 0.25,
                 },
                 x: x.iter().map(|v| v * (1.0 + f64::EPSILON)).collect(),
+                // a node the sphere holds: its offset must survive as exactly as x
+                anchors: vec![Anchor {
+                    node: 3,
+                    offset: [x[0], x[1], -x[2]],
+                }],
             },
         ]
     }
@@ -219,6 +227,14 @@ mod tests {
         let (a, b) = (back.saved_steps(), steps());
         for (s, t) in a.iter().zip(&b) {
             assert_eq!(s.cost, t.cost);
+            assert_eq!(s.anchors.len(), t.anchors.len());
+            for (u, v) in s.anchors.iter().zip(&t.anchors) {
+                assert!(u
+                    .offset
+                    .iter()
+                    .zip(&v.offset)
+                    .all(|(p, q)| p.to_bits() == q.to_bits()));
+            }
             assert!(s
                 .x
                 .iter()

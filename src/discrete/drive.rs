@@ -16,6 +16,7 @@
 
 use super::model::{State, StaticSolver, TurfSystem};
 use super::solve::{Cost, SolveError};
+use super::sphere_stick::Anchor;
 use serde::Serialize;
 
 /// The strain path.
@@ -49,13 +50,17 @@ pub struct StepRecord {
     pub cost: Cost,
 }
 
-/// A step reached: its configuration and what its solve cost.
+/// A step reached: its configuration, the nodes the sphere held during its solve and what the
+/// solve cost.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SavedStep {
     /// what the solve cost (zero at step 0)
     pub cost: Cost,
     /// node coordinates at equilibrium, nm
     pub x: Vec<f64>,
+    /// the sphere's anchors frozen during the step (empty without the stick option)
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub anchors: Vec<Anchor>,
 }
 
 /// A drive already done up to some step: the platen's start height and the steps reached,
@@ -104,16 +109,18 @@ pub fn strain_path(p: &CompressionParams) -> Vec<(f64, bool)> {
 
 /// Compress the relaxed turf at `x` (nm; the final configuration on return) along `params`,
 /// solving each step with `solver`; with `resume`, the steps it holds are taken as reached and
-/// the drive continues after the last of them. `observe` sees every step's record and
-/// configuration as it is reached (progress, VTK output, checkpoints). Returns the records,
-/// step 0 first.
+/// the drive continues after the last of them. `observe` sees every step's record and saved
+/// state (configuration, anchors) as it is reached (progress, VTK output, checkpoints). With
+/// the sphere's stick option the anchors are frozen during each solve and updated after it
+/// ([`TurfSystem::update_stick`]): the path-dependent state the drive carries. Returns the
+/// records, step 0 first.
 pub fn compress(
     sys: &mut TurfSystem,
     x: &mut [f64],
     params: &CompressionParams,
     solver: &StaticSolver,
     resume: Option<&Resume>,
-    observe: &mut dyn FnMut(&StepRecord, &[f64]),
+    observe: &mut dyn FnMut(&StepRecord, &SavedStep),
 ) -> Result<Vec<StepRecord>, DriveError> {
     if !(params.strain_max > 0.0 && params.strain_max < 1.0) || params.steps == 0 {
         return Err(DriveError::Invalid(format!(
@@ -143,6 +150,7 @@ pub fn compress(
         let x_last = x.to_vec();
         let cost = if let Some(s) = saved.get(step) {
             x.copy_from_slice(&s.x);
+            sys.set_anchors(&s.anchors);
             s.cost
         } else if step == 0 {
             Cost::default()
@@ -173,7 +181,15 @@ pub fn compress(
             state,
             cost,
         };
-        observe(&rec, x);
+        observe(
+            &rec,
+            &SavedStep {
+                cost,
+                x: x.to_vec(),
+                anchors: sys.anchors(),
+            },
+        );
+        sys.update_stick(x);
         before = last.map(|(h_last, _)| (x_last, h_last));
         records.push(rec);
     }

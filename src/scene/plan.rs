@@ -609,10 +609,15 @@ fn check_users(
         if scene.material.is_some() {
             c.bad("material", "is not used by any stage: add [indenter] and [schedule] (continuum), or model = \"linear\" under a sphere (theory)");
         }
-        if scene.adhesion.is_some() {
+        let discrete_sphere = scene
+            .compression
+            .as_ref()
+            .is_some_and(|k| k.sphere_adhesion != super::compression::SphereAdhesion::None);
+        if scene.adhesion.is_some() && !discrete_sphere {
             c.bad(
                 "adhesion",
-                "is not used by any stage: it acts between an [indenter] and a [material]",
+                "is not used by any stage: it acts between an [indenter] and a [material], or \
+                 the discrete sphere (compression.sphere_adhesion)",
             );
         }
     }
