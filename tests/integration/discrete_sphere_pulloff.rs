@@ -23,7 +23,6 @@
 //! the force proportional to it).
 
 use turf::discrete::constraints::FixedDofs;
-use turf::discrete::energy::EnergyTerm;
 use turf::discrete::rod::{Rod, RodSet, RodStiffness};
 use turf::discrete::solve::Sum;
 use turf::discrete::solve_newton::{minimize_newton, NewtonParams};
