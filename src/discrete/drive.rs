@@ -1,7 +1,8 @@
 //! Quasi-static platen compression of the turf (issue 7, item 6; seed §2.4 and ch. 5: the
 //! compressive stress–strain curve that homogenisation turns into a card).
 //!
-//! The platen starts at the top of the relaxed turf, H₀ = max(z + r) over the free nodes, and
+//! The platen starts at the top of the relaxed turf, H₀ = max(z + r) over the free nodes (an
+//! adhesive sphere z₀ above it: [`TurfSystem::start_height`]), and
 //! moves to H_k = H₀(1 − ε_k), ε_k = ε_max k/n for k = 1 … n, then (when unloading) back along
 //! the same strains to ε = 0. Each step is a static equilibrium ([`StaticSolver`]) warm-started
 //! from the previous one; before the solve, nodes the platen has overtaken are put back just
@@ -131,7 +132,7 @@ pub fn compress(
     let path = strain_path(params);
     let (h0, saved) = match resume {
         Some(r) => (r.start_height, r.steps.as_slice()),
-        None => (sys.height(x), &[][..]),
+        None => (sys.start_height(x), &[][..]),
     };
     if saved.len() > path.len() || saved.iter().any(|s| s.x.len() != x.len()) {
         return Err(DriveError::Invalid(format!(

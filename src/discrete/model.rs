@@ -266,6 +266,16 @@ impl TurfSystem {
             .fold(f64::NEG_INFINITY, f64::max)
     }
 
+    /// Where the drive starts the platen (the indenter's lowest point), nm: at the top of the
+    /// turf ([`Self::height`]), or with the sphere's adhesion z₀ above it, so that the first
+    /// tip meets the law at its equilibrium separation rather than deep in its repulsion.
+    pub fn start_height(&self, x: &[f64]) -> f64 {
+        match &self.model.sphere_lj {
+            Some(t) => self.height(x) + t.rest_gap(),
+            None => self.height(x),
+        }
+    }
+
     /// Give the sphere indenter ([`Self::indenter`], set before) the adhesion and hold of
     /// `contact`, acting on the tubes `layout` with reference configuration `x0` (nm). A node
     /// is in contact for the hold when its gap is below the law's gap of largest tension (with

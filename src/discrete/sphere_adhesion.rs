@@ -233,6 +233,11 @@ impl SphereAdhesion {
         self.centre.z = h + self.radius;
     }
 
+    /// The surface law's equilibrium separation z₀, nm.
+    pub fn rest_gap(&self) -> f64 {
+        self.laws.first().map_or(0.0, |l| l.law.z0())
+    }
+
     /// The line law of tube `k`.
     pub fn line_law(&self, k: usize) -> &LineLaw {
         &self.laws[k]

@@ -327,7 +327,9 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     let mut vtk_files: Vec<PathBuf> = Vec::new();
     let mut side_error = None;
     let total = if k.unload { 2 * k.steps } else { k.steps };
-    let start_height = resume.as_ref().map_or(sys.height(&x), |r| r.start_height);
+    let start_height = resume
+        .as_ref()
+        .map_or(sys.start_height(&x), |r| r.start_height);
     let mut reached: Vec<SavedStep> = Vec::new();
     let mut partial: Vec<StepRecord> = Vec::new();
     let mut observe = |rec: &StepRecord, saved: &SavedStep| {

@@ -188,7 +188,7 @@ fn a_resumed_drive_with_held_tips_repeats_the_uninterrupted_one_bit_for_bit() {
         unload: false,
     };
     let (mut sys, mut x) = adhesive_stick_system();
-    let start_height = sys.height(&x);
+    let start_height = sys.start_height(&x);
     let mut saved: Vec<SavedStep> = Vec::new();
     let full = compress(&mut sys, &mut x, &params, &newton(), None, &mut |_, s| {
         saved.push(s.clone())
