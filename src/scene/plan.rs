@@ -768,6 +768,31 @@ fn switches(scene: &Scene, continuum: bool, d: &Derived) -> Vec<Switch> {
             format!("turf.periodic = {}", t.periodic),
         );
     }
+    if let Some(k) = scene
+        .compression
+        .as_ref()
+        .filter(|k| k.indenter == super::compression::Indenter::Sphere)
+    {
+        use super::compression::{SphereAdhesion, Tangential};
+        let adhesion = match k.sphere_adhesion {
+            SphereAdhesion::None => "non-adhesive penalty sphere",
+            SphereAdhesion::Lj => {
+                "LJ adhesion ([adhesion] law, unshifted) across and along the tubes"
+            }
+            SphereAdhesion::LjShifted => {
+                "LJ adhesion ([adhesion] law, thermally shifted) across and along the tubes"
+            }
+        };
+        let tangential = match k.sphere_tangential {
+            Tangential::Frictionless => "frictionless",
+            Tangential::Stick => "touched nodes held where they touch (stick)",
+        };
+        push(
+            "sphere_contact",
+            k.sphere_adhesion != SphereAdhesion::None || k.sphere_tangential == Tangential::Stick,
+            format!("discrete sphere: {adhesion}; {tangential}"),
+        );
+    }
     s
 }
 
