@@ -14,6 +14,7 @@
 //! refused rather than continued.
 
 use super::drive::SavedStep;
+use super::sphere_stick::Anchor;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -162,6 +163,26 @@ impl Checkpoint {
                 s.x.len()
             )));
         }
+        let nodes = coordinates / 3;
+        let bad_anchor = |a: &Anchor| {
+            let norm = a.offset.iter().map(|v| v * v).sum::<f64>().sqrt();
+            a.node >= nodes || !(norm.is_finite() && norm > 0.0)
+        };
+        if let Some(a) = c
+            .steps
+            .iter()
+            .flat_map(|s| &s.anchors)
+            .find(|a| bad_anchor(a))
+        {
+            return Err(CheckpointError::Invalid {
+                path: p,
+                reason: format!(
+                    "a held node {} (offset {:?} nm) is not a node of the {nodes} or has no \
+                     finite, nonzero offset from the sphere's centre",
+                    a.node, a.offset
+                ),
+            });
+        }
         Ok(Some(c))
     }
 }
@@ -170,7 +191,6 @@ impl Checkpoint {
 mod tests {
     use super::*;
     use crate::discrete::solve::Cost;
-    use crate::discrete::sphere_stick::Anchor;
 
     /// A checkpoint path in a folder that does not exist yet (`save` creates it).
     fn temp(name: &str) -> std::path::PathBuf {
@@ -199,7 +219,7 @@ mod tests {
                 x: x.iter().map(|v| v * (1.0 + f64::EPSILON)).collect(),
                 // a node the sphere holds: its offset must survive as exactly as x
                 anchors: vec![Anchor {
-                    node: 3,
+                    node: 0,
                     offset: [x[0], x[1], -x[2]],
                 }],
             },
@@ -256,6 +276,14 @@ mod tests {
         assert!(matches!(other, CheckpointError::Mismatch { .. }), "{other}");
         let size = Checkpoint::load(&path, "s", 6).unwrap_err();
         assert!(size.to_string().contains("4 coordinates"), "{size}");
+        // a held node outside the turf is refused, not indexed
+        let mut held = steps();
+        held[1].anchors[0].node = 2;
+        Checkpoint::new("s", relaxation(), 1.0, &held)
+            .save(&path)
+            .unwrap();
+        let node = Checkpoint::load(&path, "s", 4).unwrap_err();
+        assert!(node.to_string().contains("held node 2"), "{node}");
         std::fs::write(&path, "{\"format\": 1").unwrap();
         let bad = Checkpoint::load(&path, "s", 4).unwrap_err();
         assert!(matches!(bad, CheckpointError::Invalid { .. }), "{bad}");
