@@ -6,13 +6,15 @@
 //! every step's record (strain, stress, energies, contacts) is a function of its configuration
 //! alone (the contact list is sorted and rebuilt from the positions, so its history does not
 //! change a sum). A checkpoint therefore holds no random numbers and no solver state: the
-//! platen's start height H₀, and for every step reached its node positions and what its solve
-//! cost. The positions read back bit for bit (serde_json's `float_roundtrip`): the resumed
+//! platen's start height H₀, and for every step reached its node positions, the nodes the
+//! sphere held during its solve (the stick option's anchors: path-dependent state, absent from
+//! the file without that option) and what its solve cost. The positions read back bit for bit (serde_json's `float_roundtrip`): the resumed
 //! solve must start from the very same configuration. With them the checkpoint holds the relaxation's report and the text of the
 //! scene's `[turf]` and `[compression]` sections, so that a checkpoint of another scene is
 //! refused rather than continued.
 
 use super::drive::SavedStep;
+use super::sphere_stick::Anchor;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -161,6 +163,26 @@ impl Checkpoint {
                 s.x.len()
             )));
         }
+        let nodes = coordinates / 3;
+        let bad_anchor = |a: &Anchor| {
+            let norm = a.offset.iter().map(|v| v * v).sum::<f64>().sqrt();
+            a.node >= nodes || !(norm.is_finite() && norm > 0.0)
+        };
+        if let Some(a) = c
+            .steps
+            .iter()
+            .flat_map(|s| &s.anchors)
+            .find(|a| bad_anchor(a))
+        {
+            return Err(CheckpointError::Invalid {
+                path: p,
+                reason: format!(
+                    "a held node {} (offset {:?} nm) is not a node of the {nodes} or has no \
+                     finite, nonzero offset from the sphere's centre",
+                    a.node, a.offset
+                ),
+            });
+        }
         Ok(Some(c))
     }
 }
@@ -184,6 +206,7 @@ mod tests {
             SavedStep {
                 cost: Cost::default(),
                 x: x.clone(),
+                anchors: Vec::new(),
             },
             SavedStep {
                 cost: Cost {
@@ -194,6 +217,11 @@ mod tests {
                     seconds: 0.25,
                 },
                 x: x.iter().map(|v| v * (1.0 + f64::EPSILON)).collect(),
+                // a node the sphere holds: its offset must survive as exactly as x
+                anchors: vec![Anchor {
+                    node: 0,
+                    offset: [x[0], x[1], -x[2]],
+                }],
             },
         ]
     }
@@ -219,6 +247,14 @@ mod tests {
         let (a, b) = (back.saved_steps(), steps());
         for (s, t) in a.iter().zip(&b) {
             assert_eq!(s.cost, t.cost);
+            assert_eq!(s.anchors.len(), t.anchors.len());
+            for (u, v) in s.anchors.iter().zip(&t.anchors) {
+                assert!(u
+                    .offset
+                    .iter()
+                    .zip(&v.offset)
+                    .all(|(p, q)| p.to_bits() == q.to_bits()));
+            }
             assert!(s
                 .x
                 .iter()
@@ -240,6 +276,14 @@ mod tests {
         assert!(matches!(other, CheckpointError::Mismatch { .. }), "{other}");
         let size = Checkpoint::load(&path, "s", 6).unwrap_err();
         assert!(size.to_string().contains("4 coordinates"), "{size}");
+        // a held node outside the turf is refused, not indexed
+        let mut held = steps();
+        held[1].anchors[0].node = 2;
+        Checkpoint::new("s", relaxation(), 1.0, &held)
+            .save(&path)
+            .unwrap();
+        let node = Checkpoint::load(&path, "s", 4).unwrap_err();
+        assert!(node.to_string().contains("held node 2"), "{node}");
         std::fs::write(&path, "{\"format\": 1").unwrap();
         let bad = Checkpoint::load(&path, "s", 4).unwrap_err();
         assert!(matches!(bad, CheckpointError::Invalid { .. }), "{bad}");

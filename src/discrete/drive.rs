@@ -1,7 +1,8 @@
 //! Quasi-static platen compression of the turf (issue 7, item 6; seed §2.4 and ch. 5: the
 //! compressive stress–strain curve that homogenisation turns into a card).
 //!
-//! The platen starts at the top of the relaxed turf, H₀ = max(z + r) over the free nodes, and
+//! The platen starts at the top of the relaxed turf, H₀ = max(z + r) over the free nodes (an
+//! adhesive sphere z₀ above it: [`TurfSystem::start_height`]), and
 //! moves to H_k = H₀(1 − ε_k), ε_k = ε_max k/n for k = 1 … n, then (when unloading) back along
 //! the same strains to ε = 0. Each step is a static equilibrium ([`StaticSolver`]) warm-started
 //! from the previous one; before the solve, nodes the platen has overtaken are put back just
@@ -16,6 +17,7 @@
 
 use super::model::{State, StaticSolver, TurfSystem};
 use super::solve::{Cost, SolveError};
+use super::sphere_stick::Anchor;
 use serde::Serialize;
 
 /// The strain path.
@@ -49,13 +51,17 @@ pub struct StepRecord {
     pub cost: Cost,
 }
 
-/// A step reached: its configuration and what its solve cost.
+/// A step reached: its configuration, the nodes the sphere held during its solve and what the
+/// solve cost.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SavedStep {
     /// what the solve cost (zero at step 0)
     pub cost: Cost,
     /// node coordinates at equilibrium, nm
     pub x: Vec<f64>,
+    /// the sphere's anchors frozen during the step (empty without the stick option)
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub anchors: Vec<Anchor>,
 }
 
 /// A drive already done up to some step: the platen's start height and the steps reached,
@@ -112,17 +118,19 @@ pub fn strain_path(p: &CompressionParams) -> Vec<(f64, bool)> {
 
 /// Compress the relaxed turf at `x` (nm; the final configuration on return) along `params`,
 /// solving each step with `solver`; with `resume`, the steps it holds are taken as reached and
-/// the drive continues after the last of them. `observe` sees every step's record and
-/// configuration as it is reached (progress, VTK output, checkpoints). Returns the records,
-/// step 0 first; an interrupt ([`crate::interrupt::requested`]) stops the drive after the
-/// step being solved, once `observe` has seen it.
+/// the drive continues after the last of them. `observe` sees every step's record and saved
+/// state (configuration, anchors) as it is reached (progress, VTK output, checkpoints). With
+/// the sphere's stick option the anchors are frozen during each solve and updated after it
+/// ([`TurfSystem::update_stick`]): the path-dependent state the drive carries. Returns the
+/// records, step 0 first; an interrupt ([`crate::interrupt::requested`]) stops the drive after
+/// the step being solved, once `observe` has seen it.
 pub fn compress(
     sys: &mut TurfSystem,
     x: &mut [f64],
     params: &CompressionParams,
     solver: &StaticSolver,
     resume: Option<&Resume>,
-    observe: &mut dyn FnMut(&StepRecord, &[f64]),
+    observe: &mut dyn FnMut(&StepRecord, &SavedStep),
 ) -> Result<Vec<StepRecord>, DriveError> {
     if !(params.strain_max > 0.0 && params.strain_max < 1.0) || params.steps == 0 {
         return Err(DriveError::Invalid(format!(
@@ -134,7 +142,7 @@ pub fn compress(
     let total = path.len();
     let (h0, saved) = match resume {
         Some(r) => (r.start_height, r.steps.as_slice()),
-        None => (sys.height(x), &[][..]),
+        None => (sys.start_height(x), &[][..]),
     };
     if saved.len() > path.len() || saved.iter().any(|s| s.x.len() != x.len()) {
         return Err(DriveError::Invalid(format!(
@@ -153,6 +161,7 @@ pub fn compress(
         let x_last = x.to_vec();
         let cost = if let Some(s) = saved.get(step) {
             x.copy_from_slice(&s.x);
+            sys.set_anchors(&s.anchors);
             s.cost
         } else if step == 0 {
             Cost::default()
@@ -183,7 +192,15 @@ pub fn compress(
             state,
             cost,
         };
-        observe(&rec, x);
+        observe(
+            &rec,
+            &SavedStep {
+                cost,
+                x: x.to_vec(),
+                anchors: sys.anchors(),
+            },
+        );
+        sys.update_stick(x);
         before = last.map(|(h_last, _)| (x_last, h_last));
         records.push(rec);
         if crate::interrupt::requested() && step + 1 < total {

@@ -19,3 +19,40 @@ pub trait EnergyTerm: Sync {
     /// symmetric matrix (both triangles; duplicates are summed by the solver).
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>);
 }
+
+/// Finite-difference checks shared by the terms' tests.
+#[cfg(test)]
+pub(crate) mod fd {
+    use super::EnergyTerm;
+
+    /// The largest errors of `term`'s gradient against central differences of its energy and
+    /// of its Hessian against central differences of its gradient, at `x` with step `h`, each
+    /// relative to the largest entry of the gradient and of the Hessian.
+    pub(crate) fn relative_errors(term: &dyn EnergyTerm, x: &[f64], h: f64) -> (f64, f64) {
+        let n = x.len();
+        let mut g = vec![0.0; n];
+        term.energy_gradient(x, &mut g);
+        let mut entries = Vec::new();
+        term.hessian(x, &mut entries);
+        let mut hess = vec![0.0; n * n];
+        for (r, c, v) in entries {
+            hess[r * n + c] += v;
+        }
+        let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        let (gscale, hscale) = (largest(&g), largest(&hess));
+        let (mut eg, mut eh) = (0.0f64, 0.0f64);
+        for k in 0..n {
+            let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+            xp[k] += h;
+            xm[k] -= h;
+            let (mut gp, mut gm) = (vec![0.0; n], vec![0.0; n]);
+            let fd = (term.energy_gradient(&xp, &mut gp) - term.energy_gradient(&xm, &mut gm))
+                / (2.0 * h);
+            eg = eg.max((fd - g[k]).abs() / gscale);
+            for j in 0..n {
+                eh = eh.max(((gp[j] - gm[j]) / (2.0 * h) - hess[j * n + k]).abs() / hscale);
+            }
+        }
+        (eg, eh)
+    }
+}

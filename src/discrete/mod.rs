@@ -21,6 +21,8 @@ pub mod rod_problems;
 pub mod solve;
 pub mod solve_fire;
 pub mod solve_newton;
+pub mod sphere_adhesion;
+pub mod sphere_stick;
 pub mod structure;
 pub mod turf;
 pub mod vdw;

@@ -12,10 +12,13 @@ use super::rod::{Rod, RodError, RodSet, RodStiffness};
 use super::solve::{Info, SolveError};
 use super::solve_fire::{minimize_fire, FireParams};
 use super::solve_newton::{minimize_newton, NewtonParams};
+use super::sphere_adhesion::{SphereAdhesion, SphereLjParams};
+use super::sphere_stick::{Anchor, Stick};
 use super::structure::{self, Structure};
 use super::turf::{EnergyBalance, Turf};
 use super::vdw::{VdwError, VdwParams};
-use super::vdw_term::VdwTerm;
+use super::vdw_term::{TubeLayout, VdwTerm};
+use crate::laws::SurfaceLaw;
 use serde::Serialize;
 
 /// Why a model could not be built.
@@ -44,6 +47,22 @@ pub struct TurfModel {
     pub substrate: Wall,
     /// the compression platen; `None` before the drive starts
     pub platen: Option<Wall>,
+    /// LJ adhesion of the sphere indenter (acts only while the platen is set)
+    pub sphere_lj: Option<SphereAdhesion>,
+    /// the sphere's tangential hold of the nodes it touches (acts only while the platen is set)
+    pub stick: Option<Stick>,
+}
+
+impl TurfModel {
+    /// The sphere's adhesion and hold, while the indenter is in place.
+    fn sphere_terms(&self) -> impl Iterator<Item = &dyn EnergyTerm> {
+        let on = self.platen.is_some();
+        let lj = self.sphere_lj.as_ref().filter(|_| on);
+        let stick = self.stick.as_ref().filter(|_| on);
+        lj.map(|t| t as &dyn EnergyTerm)
+            .into_iter()
+            .chain(stick.map(|t| t as &dyn EnergyTerm))
+    }
 }
 
 impl EnergyTerm for TurfModel {
@@ -62,6 +81,9 @@ impl EnergyTerm for TurfModel {
         if let Some(p) = &self.platen {
             e += p.energy_gradient(x, grad);
         }
+        for t in self.sphere_terms() {
+            e += t.energy_gradient(x, grad);
+        }
         e
     }
 
@@ -73,6 +95,9 @@ impl EnergyTerm for TurfModel {
         self.substrate.hessian(x, out);
         if let Some(p) = &self.platen {
             p.hessian(x, out);
+        }
+        for t in self.sphere_terms() {
+            t.hessian(x, out);
         }
     }
 }
@@ -117,6 +142,24 @@ pub struct TurfSystem {
     pub indenter: Shape,
 }
 
+/// How the sphere indenter meets the tubes beyond the frictionless penalty contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereContact {
+    /// the LJ surface law between sphere and tubes; `None`: no adhesion
+    pub adhesion: Option<SurfaceLaw>,
+    /// the tangential hold; `None`: frictionless
+    pub stick: Option<StickSettings>,
+}
+
+/// The stick option's settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StickSettings {
+    /// tangential penalty stiffness k_t, nN/nm
+    pub stiffness: f64,
+    /// tensile normal force (nN) beyond which a held node is let go; `None`: only on leaving
+    pub release: Option<f64>,
+}
+
 /// The energy of a configuration by part, aJ.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
 pub struct EnergyParts {
@@ -126,7 +169,8 @@ pub struct EnergyParts {
     pub bending: f64,
     /// van der Waals energy (negative when tubes adhere; Γ = −this)
     pub vdw: f64,
-    /// penalty energy of the walls (platen and substrate)
+    /// energy of the walls: the penalty of the platen (or sphere) and substrate, and the
+    /// sphere's LJ adhesion and tangential hold when it has them
     pub walls: f64,
 }
 
@@ -153,7 +197,8 @@ pub struct State {
     /// smallest surface gap between tubes over the quadrature point pairs in range, nm (+∞
     /// without contacts; negative: tubes interpenetrate, the state is unphysical)
     pub min_gap: f64,
-    /// force of the turf on the platen, nN (0 without a platen)
+    /// force of the turf on the platen, nN (0 without a platen): −∂E/∂H of every term that
+    /// moves with it (penalty, the sphere's adhesion and hold)
     pub platen_force: f64,
     /// nodes touching the platen
     pub platen_nodes: usize,
@@ -203,6 +248,8 @@ impl TurfSystem {
                 vdw,
                 substrate: Wall::new(0.0, Facing::Up, wall_stiffness, wall_nodes.clone()),
                 platen: None,
+                sphere_lj: None,
+                stick: None,
             },
             fixed,
             wall_nodes,
@@ -220,8 +267,84 @@ impl TurfSystem {
             .fold(f64::NEG_INFINITY, f64::max)
     }
 
+    /// Where the drive starts the platen (the indenter's lowest point), nm: at the top of the
+    /// turf ([`Self::height`]), or with the sphere's adhesion z₀ above it, so that the first
+    /// tip meets the law at its equilibrium separation rather than deep in its repulsion.
+    pub fn start_height(&self, x: &[f64]) -> f64 {
+        match &self.model.sphere_lj {
+            Some(t) => self.height(x) + t.rest_gap(),
+            None => self.height(x),
+        }
+    }
+
+    /// Give the sphere indenter ([`Self::indenter`], set before) the adhesion and hold of
+    /// `contact`, acting on the tubes `layout` with reference configuration `x0` (nm). A node
+    /// is in contact for the hold when its gap is below the law's gap of largest tension (with
+    /// adhesion) or negative (the penalty contact alone).
+    pub fn set_sphere_contact(
+        &mut self,
+        contact: &SphereContact,
+        layout: &[TubeLayout],
+        x0: &[f64],
+    ) {
+        let Shape::Sphere { radius, x, y } = self.indenter else {
+            return;
+        };
+        let lowest = [x, y, self.height(x0)];
+        self.model.sphere_lj = contact.adhesion.map(|law| {
+            SphereAdhesion::new(law, radius, lowest, layout, x0, &SphereLjParams::default())
+        });
+        let touch_gap = contact.adhesion.map_or(0.0, |l| l.gap_at_max_tension());
+        self.model.stick = contact.stick.map(|s| {
+            Stick::new(
+                s.stiffness,
+                touch_gap,
+                s.release,
+                radius,
+                lowest,
+                self.wall_nodes.clone(),
+            )
+        });
+    }
+
+    /// The held nodes (none without the stick option).
+    pub fn anchors(&self) -> Vec<Anchor> {
+        self.model
+            .stick
+            .as_ref()
+            .map_or_else(Vec::new, |s| s.anchors().to_vec())
+    }
+
+    /// Restore the held nodes of a saved step.
+    pub fn set_anchors(&mut self, anchors: &[Anchor]) {
+        if let Some(s) = self.model.stick.as_mut() {
+            s.set_anchors(anchors);
+        }
+    }
+
+    /// Between load steps, at the equilibrium `x`: hold the nodes that have come into contact,
+    /// let go of those that left it or pull beyond the release force ([`Stick::update`]).
+    pub fn update_stick(&mut self, x: &[f64]) {
+        let m = &mut self.model;
+        let (Some(stick), Some(platen)) = (m.stick.as_mut(), m.platen.as_ref()) else {
+            return;
+        };
+        let mut normal = vec![0.0; x.len()];
+        platen.energy_gradient(x, &mut normal);
+        if let Some(lj) = &m.sphere_lj {
+            lj.energy_gradient(x, &mut normal);
+        }
+        stick.update(x, &normal);
+    }
+
     /// Put the platen (the indenter's lowest point) at height `h` (nm).
     pub fn set_platen(&mut self, h: f64) {
+        if let Some(t) = self.model.sphere_lj.as_mut() {
+            t.set_height(h);
+        }
+        if let Some(t) = self.model.stick.as_mut() {
+            t.set_height(h);
+        }
         match self.model.platen.as_mut() {
             Some(p) => p.height = h,
             None => {
@@ -263,6 +386,14 @@ impl TurfSystem {
             walls += p.energy_gradient(x, &mut scratch);
             platen_force = p.force(x);
             platen_nodes = p.touching(x);
+            if let Some(t) = m.sphere_lj.as_ref() {
+                walls += t.energy_gradient(x, &mut scratch);
+                platen_force += t.force(x);
+            }
+            if let Some(t) = m.stick.as_ref() {
+                walls += t.energy_gradient(x, &mut scratch);
+                platen_force += t.force(x);
+            }
         }
         State {
             energy: EnergyParts {

@@ -159,7 +159,7 @@ impl VdwParams {
 }
 
 /// Quintic smoothstep switch S(g) and its first two derivatives: 1 below `on`, 0 above `off`.
-fn switch(g: f64, on: f64, off: f64) -> (f64, f64, f64) {
+pub(crate) fn switch(g: f64, on: f64, off: f64) -> (f64, f64, f64) {
     if g <= on {
         return (1.0, 0.0, 0.0);
     }

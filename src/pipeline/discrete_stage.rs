@@ -34,7 +34,9 @@ use crate::discrete::drive::{
     compress, CompressionParams, DriveError, Resume, SavedStep, StepRecord,
 };
 use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
-use crate::discrete::model::{relax, State, StaticSolver, TurfSystem};
+use crate::discrete::model::{
+    relax, SphereContact, State, StaticSolver, StickSettings, TurfSystem,
+};
 use crate::discrete::platen::{Shape, DEFAULT_WALL_STIFFNESS};
 use crate::discrete::rod::RodStiffness;
 use crate::discrete::solve_fire::FireParams;
@@ -43,11 +45,15 @@ use crate::discrete::structure::Structure;
 use crate::discrete::turf::{generate_turf, TurfParams};
 use crate::discrete::vdw::VdwParams;
 use crate::discrete::vdw_term::TubeLayout;
+use crate::laws::SurfaceLaw;
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
 use crate::report::vtk::{CellKind, DataArray, Grid};
 use crate::report::{write_json, ReportError};
-use crate::scene::compression::{Compression, DiscreteSolver, Indenter, Platen};
+use crate::scene::compression::{
+    Compression, DiscreteSolver, Indenter, Platen, SphereAdhesion, Tangential,
+    DEFAULT_STICK_STIFFNESS,
+};
 use crate::scene::rods::End;
 use crate::scene::{ResolvedScene, Stage};
 use crate::theory::micromech::ShapeFactor;
@@ -91,6 +97,28 @@ fn report(source: ReportError) -> StageError {
 
 /// The sphere's load–depth curve (every step: depth below the first contact height, load).
 const LOAD_DEPTH_CSV: &str = "load_depth.csv";
+
+/// The sphere's adhesion (the `[adhesion]` law, shifted or not) and tangential hold.
+fn sphere_contact(s: &crate::scene::Scene, k: &Compression) -> Result<SphereContact, StageError> {
+    let adhesion = match (k.sphere_adhesion, &s.adhesion) {
+        (SphereAdhesion::None, _) => None,
+        (_, None) => {
+            return Err(failed(
+                "compression.sphere_adhesion needs [adhesion]".into(),
+            ))
+        }
+        (SphereAdhesion::Lj, Some(a)) => Some(SurfaceLaw::from(a.law())),
+        (SphereAdhesion::LjShifted, Some(a)) => Some(
+            a.surface_law(s.turf.as_ref())
+                .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?,
+        ),
+    };
+    let stick = (k.sphere_tangential == Tangential::Stick).then(|| StickSettings {
+        stiffness: k.stick_stiffness.map_or(DEFAULT_STICK_STIFFNESS, |v| v.0),
+        release: k.stick_release.map(|f| f.0),
+    });
+    Ok(SphereContact { adhesion, stick })
+}
 
 /// Run the stage: the rods, one turf, or an ensemble of `turf.realisations` turfs.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
@@ -229,6 +257,8 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
             x: 0.5 * t.box_size[0].0,
             y: 0.5 * t.box_size[1].0,
         };
+        let contact = sphere_contact(s, k)?;
+        sys.set_sphere_contact(&contact, &turf.layout(), &turf.coordinates());
     }
     let solver = static_solver(k);
     let mut x = turf.coordinates();
@@ -306,10 +336,13 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     let mut vtk_files: Vec<PathBuf> = Vec::new();
     let mut side_error = None;
     let total = if k.unload { 2 * k.steps } else { k.steps };
-    let start_height = resume.as_ref().map_or(sys.height(&x), |r| r.start_height);
+    let start_height = resume
+        .as_ref()
+        .map_or(sys.start_height(&x), |r| r.start_height);
     let mut reached: Vec<SavedStep> = Vec::new();
     let mut partial: Vec<StepRecord> = Vec::new();
-    let mut observe = |rec: &StepRecord, xs: &[f64]| {
+    let mut observe = |rec: &StepRecord, saved: &SavedStep| {
+        let xs = &saved.x;
         job.say(
             done,
             format!(
@@ -321,10 +354,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
             return;
         }
         partial.push(*rec);
-        reached.push(SavedStep {
-            cost: rec.cost,
-            x: xs.to_vec(),
-        });
+        reached.push(saved.clone());
         let c = Checkpoint::new(&fingerprint, relaxed.cost.clone(), start_height, &reached);
         if let Err(e) = c.save(&checkpoint_path) {
             side_error = Some(failed(e.to_string()));

@@ -1,10 +1,13 @@
 //! `[compression]`: the discrete drive — a rigid platen (or, with `indenter = "sphere"`, a rigid
-//! frictionless sphere of radius `sphere_radius` over the box centre) pressed onto the turf (or
+//! sphere of radius `sphere_radius` over the box centre) pressed onto the turf (or
 //! rods) along a nominal-strain path, optionally unloaded again to measure reversibility; each step is
-//! relaxed to equilibrium by FIRE or Newton.
+//! relaxed to equilibrium by FIRE or Newton. The sphere is frictionless and non-adhesive unless
+//! `sphere_adhesion` gives it the `[adhesion]` law (`crate::discrete::sphere_adhesion`) and
+//! `sphere_tangential = "stick"` holds the nodes it touches (`crate::discrete::sphere_stick`).
 
+use super::adhesion::{Adhesion, ThermalShift};
 use super::check::Checker;
-use super::quantity::{Force, Length, Number};
+use super::quantity::{Force, Length, Number, Stiffness};
 use serde::{Deserialize, Serialize};
 
 /// How the platen meets the tube tops.
@@ -25,6 +28,41 @@ pub enum Indenter {
     Platen,
     /// a rigid frictionless sphere over the box centre (load–depth curve)
     Sphere,
+}
+
+/// The sphere's adhesion to the tubes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SphereAdhesion {
+    /// none: the penalty contact alone
+    #[default]
+    None,
+    /// the `[adhesion]` law (`adhesion.law`, `gamma`, `z0`) without thermal shift
+    Lj,
+    /// the `[adhesion]` law thermally shifted by `adhesion.thermal_shift` (seed §5.2), as the
+    /// continuum's
+    LjShifted,
+}
+
+/// The sphere's tangential contact.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Tangential {
+    /// nodes slide freely on the sphere
+    #[default]
+    Frictionless,
+    /// a node is held tangentially where it first touched (a penalty spring moving with the
+    /// sphere) until it leaves contact or pulls beyond `stick_release`
+    Stick,
+}
+
+/// Default tangential stiffness of the stick option, nN/nm: a held node carrying 1 nN
+/// tangentially is 0.01 nm from its anchor, four orders of magnitude stiffer than the lateral
+/// bending stiffness 3YI/L³ of a 1 µm seed tube (0.07 nN/nm).
+pub const DEFAULT_STICK_STIFFNESS: f64 = 100.0;
+
+fn is_default<T: Default + PartialEq>(v: &T) -> bool {
+    *v == T::default()
 }
 
 /// Equilibrium solver of each step.
@@ -50,6 +88,23 @@ pub struct Compression {
     /// Radius of the sphere, > 0; required with `indenter = "sphere"`, not allowed otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sphere_radius: Option<Length>,
+    /// The sphere's adhesion, only with `indenter = "sphere"`: `"none"`, `"lj"` (the
+    /// `[adhesion]` law unshifted) or `"lj_shifted"` (shifted by `adhesion.thermal_shift`,
+    /// which must then not be false). Needs `[adhesion]` unless `"none"`. Default `"none"`.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub sphere_adhesion: SphereAdhesion,
+    /// The sphere's tangential contact, only with `indenter = "sphere"`: `"frictionless"` or
+    /// `"stick"`. Default `"frictionless"`.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub sphere_tangential: Tangential,
+    /// Tangential stiffness of `"stick"`, > 0 (a stiffness, e.g. "100 nN/nm"). Default 100
+    /// nN/nm; only with `sphere_tangential = "stick"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stick_stiffness: Option<Stiffness>,
+    /// Tensile normal force beyond which a held node is let go, ≥ 0 (a force). Default: held
+    /// until it leaves contact; only with `sphere_tangential = "stick"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stick_release: Option<Force>,
     /// Final nominal compressive strain, in (0, 1). Required.
     pub to: Number,
     /// Strain steps to reach `to`, ≥ 1. Default 20.
@@ -89,7 +144,8 @@ fn default_iterations() -> usize {
 }
 
 impl Compression {
-    pub(crate) fn check(&self, c: &mut Checker) {
+    /// Check the keys; `adhesion` is the scene's `[adhesion]`, which `sphere_adhesion` uses.
+    pub(crate) fn check(&self, c: &mut Checker, adhesion: Option<&Adhesion>) {
         c.number_in("compression.to", self.to.0, 0.0, 1.0, true);
         match (self.indenter, self.sphere_radius) {
             (Indenter::Sphere, None) => c.bad(
@@ -103,8 +159,54 @@ impl Compression {
             ),
             (Indenter::Platen, None) => {}
         }
+        self.check_sphere_contact(c, adhesion);
         c.count_at_least("compression.steps", self.steps, 1);
         c.positive("compression.tolerance", self.tolerance);
         c.count_at_least("compression.max_iterations", self.max_iterations, 1);
+    }
+
+    /// The sphere's adhesion and tangential keys.
+    fn check_sphere_contact(&self, c: &mut Checker, adhesion: Option<&Adhesion>) {
+        let sphere = self.indenter == Indenter::Sphere;
+        let why =
+            "with indenter = \"platen\" (the sphere's contact options need indenter = \"sphere\")";
+        if !sphere && self.sphere_adhesion != SphereAdhesion::None {
+            c.unused("compression.sphere_adhesion", why);
+        }
+        if !sphere && self.sphere_tangential != Tangential::Frictionless {
+            c.unused("compression.sphere_tangential", why);
+        }
+        match (self.sphere_adhesion, adhesion) {
+            (SphereAdhesion::None, _) => {}
+            (_, None) => c.bad(
+                "compression.sphere_adhesion",
+                "needs [adhesion] (law, gamma, z0 and, for \"lj_shifted\", thermal_shift); \
+                 allowed: \"none\", \"lj\", \"lj_shifted\"",
+            ),
+            (SphereAdhesion::LjShifted, Some(a)) if a.thermal_shift == ThermalShift::Off => c.bad(
+                "compression.sphere_adhesion",
+                "\"lj_shifted\" needs adhesion.thermal_shift = true or a length (it is false); \
+                 use \"lj\" for the unshifted law",
+            ),
+            _ => {}
+        }
+        if self.sphere_tangential != Tangential::Stick {
+            let why = "without sphere_tangential = \"stick\"";
+            if self.stick_stiffness.is_some() {
+                c.unused("compression.stick_stiffness", why);
+            }
+            if self.stick_release.is_some() {
+                c.unused("compression.stick_release", why);
+            }
+        }
+        c.positive_opt("compression.stick_stiffness", self.stick_stiffness);
+        if let Some(f) = self.stick_release {
+            if !(f.0 >= 0.0 && f.0.is_finite()) {
+                c.bad(
+                    "compression.stick_release",
+                    format!("{} nN is not allowed: must be >= 0 and finite", f.0),
+                );
+            }
+        }
     }
 }

@@ -340,7 +340,7 @@ fn resolve(mut scene: Scene, file: &Path) -> Result<ResolvedScene, Vec<(String, 
         s.check(&mut c, compressed);
     }
     if let Some(s) = &scene.compression {
-        s.check(&mut c);
+        s.check(&mut c, scene.adhesion.as_ref());
     }
     let to = scene.compression.as_ref().map(|k| k.to.0);
     let sphere = scene

@@ -609,10 +609,15 @@ fn check_users(
         if scene.material.is_some() {
             c.bad("material", "is not used by any stage: add [indenter] and [schedule] (continuum), or model = \"linear\" under a sphere (theory)");
         }
-        if scene.adhesion.is_some() {
+        let discrete_sphere = scene
+            .compression
+            .as_ref()
+            .is_some_and(|k| k.sphere_adhesion != super::compression::SphereAdhesion::None);
+        if scene.adhesion.is_some() && !discrete_sphere {
             c.bad(
                 "adhesion",
-                "is not used by any stage: it acts between an [indenter] and a [material]",
+                "is not used by any stage: it acts between an [indenter] and a [material], or \
+                 the discrete sphere (compression.sphere_adhesion)",
             );
         }
     }
@@ -761,6 +766,31 @@ fn switches(scene: &Scene, continuum: bool, d: &Derived) -> Vec<Switch> {
             "periodic",
             t.periodic,
             format!("turf.periodic = {}", t.periodic),
+        );
+    }
+    if let Some(k) = scene
+        .compression
+        .as_ref()
+        .filter(|k| k.indenter == super::compression::Indenter::Sphere)
+    {
+        use super::compression::{SphereAdhesion, Tangential};
+        let adhesion = match k.sphere_adhesion {
+            SphereAdhesion::None => "non-adhesive penalty sphere",
+            SphereAdhesion::Lj => {
+                "LJ adhesion ([adhesion] law, unshifted) across and along the tubes"
+            }
+            SphereAdhesion::LjShifted => {
+                "LJ adhesion ([adhesion] law, thermally shifted) across and along the tubes"
+            }
+        };
+        let tangential = match k.sphere_tangential {
+            Tangential::Frictionless => "frictionless",
+            Tangential::Stick => "touched nodes held where they touch (stick)",
+        };
+        push(
+            "sphere_contact",
+            k.sphere_adhesion != SphereAdhesion::None || k.sphere_tangential == Tangential::Stick,
+            format!("discrete sphere: {adhesion}; {tangential}"),
         );
     }
     s

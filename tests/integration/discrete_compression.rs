@@ -1,17 +1,20 @@
 //! Platen compression of a small generated turf (issue 7, items 4–8): relaxation, the drive
 //! to 30 % strain and back, the platen force as the derivative of the equilibrium energy, the
-//! same curve with 1 and 2 threads, and the pipeline's discrete + homogenize stages.
+//! same curve with 1 and 2 threads, and the pipeline's discrete + homogenize stages; the sphere
+//! that adheres and holds the tips it touches (issue 19): its force as the derivative of the
+//! equilibrium energy, and a resumed drive carrying the held tips.
 
 use crate::common;
 
 use common::SMALL_TURF_SCENE as SCENE;
 use std::path::Path;
-use turf::discrete::drive::{compress, CompressionParams, StepRecord};
-use turf::discrete::model::{relax, StaticSolver, TurfSystem};
+use turf::discrete::drive::{compress, CompressionParams, Resume, SavedStep, StepRecord};
+use turf::discrete::model::{relax, SphereContact, StaticSolver, StickSettings, TurfSystem};
 use turf::discrete::platen::DEFAULT_WALL_STIFFNESS;
 use turf::discrete::solve_newton::NewtonParams;
 use turf::discrete::turf::{generate_turf, TurfParams};
 use turf::discrete::vdw::VdwParams;
+use turf::laws::{LennardJones, LjKind, ThermallyShifted};
 
 /// Equilibrium force residual, nN (the rods' round-off floor is ~1e-9 nN).
 const TOLERANCE: f64 = 1e-6;
@@ -122,6 +125,111 @@ fn the_platen_force_is_minus_the_derivative_of_the_equilibrium_energy() {
             "{indenter:?}: −dE*/dH = {fd} nN, force {force} nN"
         );
     }
+}
+
+/// The relaxed small turf under a 300 nm sphere over the box centre that adheres through the
+/// seed's thermally shifted LJ 10-4 law (γ = 0.46 J/m², z₀ = 0.34 nm, u = 4.626 nm) and holds
+/// the nodes it touches (issue 19).
+fn adhesive_stick_system() -> (TurfSystem, Vec<f64>) {
+    let (mut sys, x) = relaxed_system();
+    sys.indenter = turf::discrete::platen::Shape::Sphere {
+        radius: 300.0,
+        x: 100.0,
+        y: 100.0,
+    };
+    let base = LennardJones::new(LjKind::Lj104, 0.46, 0.34);
+    let contact = SphereContact {
+        adhesion: Some(ThermallyShifted::new(base, 4.626).unwrap().into()),
+        stick: Some(StickSettings {
+            stiffness: 100.0,
+            release: Some(1.0),
+        }),
+    };
+    let turf = generate_turf(&small_turf()).unwrap();
+    sys.set_sphere_contact(&contact, &turf.layout(), &turf.coordinates());
+    (sys, x)
+}
+
+#[test]
+fn the_adhesive_holding_sphere_force_is_minus_the_derivative_of_the_equilibrium_energy() {
+    let (mut sys, mut x) = adhesive_stick_system();
+    let params = CompressionParams {
+        strain_max: 0.02,
+        steps: 2,
+        unload: false,
+    };
+    compress(&mut sys, &mut x, &params, &newton(), None, &mut |_, _| {}).unwrap();
+    assert!(!sys.anchors().is_empty(), "the sphere must hold some tips");
+    // the anchors as the drive left them (updated after the last step), re-solved at H
+    let h = sys.model.platen.as_ref().unwrap().height;
+    let mut energy_at = |dh: f64| {
+        let mut y = x.clone();
+        sys.set_platen(h + dh);
+        sys.solve(&mut y, &newton()).unwrap();
+        let s = sys.state(&y);
+        let e = s.energy;
+        (e.stretching + e.bending + e.vdw + e.walls, s.platen_force)
+    };
+    let force = energy_at(0.0).1;
+    let (ep, em) = (energy_at(FD_STEP).0, energy_at(-FD_STEP).0);
+    let fd = -(ep - em) / (2.0 * FD_STEP);
+    eprintln!("adhesive holding sphere: force {force} nN, −dE*/dH {fd} nN");
+    assert!(
+        (fd - force).abs() < FD_TOL * force.abs().max(1.0),
+        "−dE*/dH = {fd} nN, force {force} nN"
+    );
+}
+
+#[test]
+fn a_resumed_drive_with_held_tips_repeats_the_uninterrupted_one_bit_for_bit() {
+    let params = CompressionParams {
+        strain_max: 0.03,
+        steps: 3,
+        unload: false,
+    };
+    let (mut sys, mut x) = adhesive_stick_system();
+    let start_height = sys.start_height(&x);
+    let mut saved: Vec<SavedStep> = Vec::new();
+    let full = compress(&mut sys, &mut x, &params, &newton(), None, &mut |_, s| {
+        saved.push(s.clone())
+    })
+    .unwrap();
+    assert!(
+        saved.iter().any(|s| !s.anchors.is_empty()),
+        "the drive must hold tips for the resume to carry them"
+    );
+    // interrupted after step 1: the checkpoint's steps 0–1 through JSON, as the stage saves them
+    let text = serde_json::to_string(&saved[..2]).unwrap();
+    let steps: Vec<SavedStep> = serde_json::from_str(&text).unwrap();
+    let (mut sys, mut y) = adhesive_stick_system();
+    let resume = Resume {
+        start_height,
+        steps,
+    };
+    let mut again: Vec<SavedStep> = Vec::new();
+    let resumed = compress(
+        &mut sys,
+        &mut y,
+        &params,
+        &newton(),
+        Some(&resume),
+        &mut |_, s| again.push(s.clone()),
+    )
+    .unwrap();
+    for (a, b) in full.iter().zip(&resumed) {
+        assert_eq!(a.state, b.state, "step {}", a.step);
+    }
+    // (the solves' wall times differ)
+    for (a, b) in saved.iter().zip(&again) {
+        assert_eq!(a.anchors, b.anchors);
+        assert!(a
+            .x
+            .iter()
+            .zip(&b.x)
+            .all(|(u, v)| u.to_bits() == v.to_bits()));
+    }
+    assert_eq!(saved.len(), again.len());
+    assert!(x.iter().zip(&y).all(|(a, b)| a.to_bits() == b.to_bits()));
 }
 
 #[test]

@@ -455,6 +455,91 @@ fn the_sphere_indenter_keys_are_checked() {
     assert_has(&msg, &["compression.indenter", "`platen`", "`sphere`"]);
 }
 
+#[test]
+fn the_sphere_contact_keys_are_checked() {
+    let sphere = TURF.replace(
+        "to = 0.3",
+        "to = 0.3\nindenter = \"sphere\"\nsphere_radius = \"500 nm\"",
+    );
+    let adhesion = "\n[adhesion]\ngamma = \"0.46 J/m^2\"\nz0 = \"0.34 nm\"\n";
+    let shifted = format!("{sphere}{adhesion}thermal_shift = \"4.6 nm\"\n");
+    // valid: each adhesion with its [adhesion], stick with its settings
+    for (text, sets) in [
+        (
+            format!("{sphere}{adhesion}"),
+            vec!["compression.sphere_adhesion=\"lj\""],
+        ),
+        (
+            shifted.clone(),
+            vec!["compression.sphere_adhesion=\"lj_shifted\""],
+        ),
+        (
+            sphere.clone(),
+            vec![
+                "compression.sphere_tangential=\"stick\"",
+                "compression.stick_stiffness=\"50 nN/nm\"",
+                "compression.stick_release=\"2 nN\"",
+            ],
+        ),
+    ] {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        load_str(&text, Path::new("good.toml"), &sets).unwrap();
+    }
+    // bad values name the key and the allowed values
+    let msg = error(&sphere, &["compression.sphere_adhesion=\"glue\""]);
+    assert_has(
+        &msg,
+        &[
+            "bad.toml",
+            "compression.sphere_adhesion",
+            "`none`",
+            "`lj`",
+            "`lj_shifted`",
+        ],
+    );
+    let msg = error(&sphere, &["compression.sphere_tangential=\"slip\""]);
+    assert_has(
+        &msg,
+        &["compression.sphere_tangential", "`frictionless`", "`stick`"],
+    );
+    // adhesion without [adhesion], shifted without a shift
+    let msg = error(&sphere, &["compression.sphere_adhesion=\"lj\""]);
+    assert_has(&msg, &["compression.sphere_adhesion", "needs [adhesion]"]);
+    let msg = error(
+        &format!("{sphere}{adhesion}"),
+        &["compression.sphere_adhesion=\"lj_shifted\""],
+    );
+    assert_has(
+        &msg,
+        &["compression.sphere_adhesion", "thermal_shift", "\"lj\""],
+    );
+    // the sphere's keys on a platen, stick keys without stick, bad stick values
+    let msg = error(TURF, &["compression.sphere_tangential=\"stick\""]);
+    assert_has(
+        &msg,
+        &["compression.sphere_tangential", "indenter = \"sphere\""],
+    );
+    let msg = error(&sphere, &["compression.stick_stiffness=\"5 nN/nm\""]);
+    assert_has(
+        &msg,
+        &[
+            "compression.stick_stiffness",
+            "sphere_tangential = \"stick\"",
+        ],
+    );
+    let stick = "compression.sphere_tangential=\"stick\"";
+    let msg = error(
+        &sphere,
+        &[stick, "compression.stick_stiffness=\"-5 nN/nm\""],
+    );
+    assert_has(&msg, &["compression.stick_stiffness", "must be positive"]);
+    let msg = error(&sphere, &[stick, "compression.stick_release=\"-1 nN\""]);
+    assert_has(&msg, &["compression.stick_release", ">= 0"]);
+    // [adhesion] with a frictionless, non-adhesive discrete sphere is used by nothing
+    let msg = error(&format!("{sphere}{adhesion}"), &[]);
+    assert_has(&msg, &["adhesion", "not used by any stage"]);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Issue 23: every size bounded before it is allocated, every number representable
 
