@@ -166,15 +166,14 @@ pub fn compress(
         } else if step == 0 {
             Cost::default()
         } else {
-            let secant = match (&before, last) {
+            match (&before, last) {
                 (Some((x_before, h_before)), Some((h_last, loading_last)))
                     if loading_last == loading && h_last != *h_before =>
                 {
-                    Some((x_before.as_slice(), (h - h_last) / (h_last - h_before)))
+                    secant_start(sys, x, x_before, (h - h_last) / (h_last - h_before))
                 }
-                _ => None,
-            };
-            start(sys, x, secant);
+                _ => push_below(sys, x),
+            }
             sys.solve(x, solver)
                 .map_err(|source| DriveError::Step {
                     step,
@@ -211,36 +210,23 @@ pub fn compress(
     Ok(records)
 }
 
-/// The start of a step's solve: the candidate of lowest energy among the last equilibrium as
-/// it is (the platen moved, its wall pushing the overtaken nodes), the same with [`push_below`],
-/// and with `secant = (x_before, r)` the configuration extrapolated linearly in the platen height
-/// from the last two equilibria, x + r (x − x_before), r = Δh_next/Δh_last, as it is and pushed
-/// below. On a smooth branch the extrapolation starts Newton next to the solution; where the
-/// branch snaps, or a step is long against the reach of the tube–tube law, moving nodes can put
-/// tubes into each other's repulsion (energies 10²–10³ times the wall's), and the unmoved start is
-/// the best.
-fn start(sys: &mut TurfSystem, x: &mut [f64], secant: Option<(&[f64], f64)>) {
-    let mut candidates = vec![x.to_vec()];
-    if let Some((x_before, r)) = secant {
-        candidates.push(
-            x.iter()
-                .zip(x_before)
-                .map(|(a, b)| a + r * (a - b))
-                .collect(),
-        );
-    }
-    for k in 0..candidates.len() {
-        let mut pushed = candidates[k].clone();
-        push_below(sys, &mut pushed);
-        candidates.push(pushed);
-    }
-    let mut best = f64::INFINITY;
-    for c in candidates {
-        let e = sys.energy(&c);
-        if e < best {
-            best = e;
-            x.copy_from_slice(&c);
-        }
+/// Secant predictor along the drive: the configuration extrapolated linearly in the platen
+/// height from the last two equilibria, x + r (x − x_before) with r = Δh_next/Δh_last, replaces
+/// the plain start (`x` with [`push_below`]) when its energy is lower. On a smooth branch this
+/// starts Newton next to the solution; where the branch snaps (contacts forming, tubes
+/// buckling) the extrapolation can be worse, and the plain start is kept.
+fn secant_start(sys: &mut TurfSystem, x: &mut [f64], x_before: &[f64], r: f64) {
+    let mut predicted: Vec<f64> = x
+        .iter()
+        .zip(x_before)
+        .map(|(a, b)| a + r * (a - b))
+        .collect();
+    push_below(sys, x);
+    push_below(sys, &mut predicted);
+    let e_plain = sys.energy(x);
+    let e_predicted = sys.energy(&predicted);
+    if e_predicted.is_finite() && e_predicted < e_plain {
+        x.copy_from_slice(&predicted);
     }
 }
 
