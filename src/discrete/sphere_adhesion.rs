@@ -554,7 +554,7 @@ mod convergence {
     /// cross-section panels, for a 20 nm tube on a 10 µm sphere, against a reference with a
     /// cutoff of 4000 ranges and 400 panels of 8 points.
     #[test]
-    #[ignore]
+    #[ignore = "the table of docs/discrete-contacts.md: cargo test --lib convergence_table -- --ignored --nocapture"]
     fn convergence_table() {
         for law in [
             SurfaceLaw::from(LennardJones::new(LjKind::Lj93, 0.46, 0.34)),
