@@ -24,6 +24,10 @@
 //! summary's `ensemble_*` values and `plots/discrete_ensemble.{svg,png}` (the band). A
 //! realisation that fails is named with its seed and reason, keeps the steps it reached, and
 //! the ensemble goes on without it; the stage fails only when every realisation failed.
+//! Each realisation of an ensemble keeps its result (or its engine's failure) in its folder,
+//! `discrete_realisation.json`, with the inputs it came from: a later run into the folder with
+//! the same inputs, or the reduction after the work items of a shard or MPI run
+//! ([`super::items`]), reuses it instead of recomputing it.
 
 use super::ensemble::{self, PathEnsemble};
 use super::{StageContext, StageError, StageOutput};
