@@ -87,6 +87,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         }
         return Ok(());
     }
+    #[cfg(not(feature = "mpi"))]
+    if let Some(ranks) = launched_ranks() {
+        anyhow::bail!(
+            "turf was started as one of {ranks} MPI ranks but built without the `mpi` feature: \
+             each rank would run the whole scene into the same folder. Build with `cargo build \
+             --release --features mpi` (docs/scaling.md), or run without mpirun"
+        );
+    }
     #[cfg(feature = "mpi")]
     if pipeline::mpi::launched() {
         return match pipeline::mpi::run(&loaded, &opts)? {
@@ -95,6 +103,15 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         };
     }
     print_report(pipeline::run(&loaded, &opts)?, args.json)
+}
+
+/// The ranks a launcher (`mpirun`, `srun` with PMI) started, when more than one.
+#[cfg(not(feature = "mpi"))]
+fn launched_ranks() -> Option<usize> {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok()?.parse::<usize>().ok())
+        .filter(|&n| n > 1)
 }
 
 /// Print what a run did (every stage's time, evaluations and values, or the summary as JSON
