@@ -24,10 +24,11 @@
 //! summary's `ensemble_*` values and `plots/discrete_ensemble.{svg,png}` (the band). A
 //! realisation that fails is named with its seed and reason, keeps the steps it reached, and
 //! the ensemble goes on without it; the stage fails only when every realisation failed.
-//! Each realisation of an ensemble keeps its result (or its engine's failure) in its folder,
-//! `discrete_realisation.json`, with the inputs it came from: a later run into the folder with
-//! the same inputs, or the reduction after the work items of a shard or MPI run
-//! ([`super::items`]), reuses it instead of recomputing it.
+//! In the work items of a shard or MPI run ([`super::items`],
+//! [`StageContext::keep_realisations`]) each realisation keeps its result (or its engine's
+//! failure) in its folder, `discrete_realisation.json`, with the inputs it came from; the
+//! point's reduction, and any later such run into the folder with the same inputs, reuses it
+//! instead of recomputing it.
 
 use super::ensemble::{self, PathEnsemble};
 use super::{StageContext, StageError, StageOutput};
@@ -146,7 +147,11 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     let results: Vec<Result<Finished, StageError>> = (0..t.realisations)
         .into_par_iter()
         .map(|i| {
-            let r = kept_or_run(&job(i), &done);
+            let r = if ctx.keep_realisations {
+                kept_or_run(&job(i), &done)
+            } else {
+                run_realisation(&job(i), &done)
+            };
             done.fetch_add(1, Ordering::Relaxed);
             r
         })
@@ -171,6 +176,7 @@ pub(super) fn run_realisation_item(
         previous: &[],
         progress: None,
         resume,
+        keep_realisations: true,
     };
     let job = Job::new(s, t, k, index, &ctx);
     let kept = kept(&job)?.is_some();

@@ -1,6 +1,7 @@
 //! A scene's work items (DESIGN.md "Work items, ensembles and scale-out"): the units that
 //! `turf run --shard I/N` slices for a job array and that MPI ranks share out
-//! ([`super::shard`], `super::mpi`). A serial `turf run` runs the same work in one process.
+//! ([`super::shard`], `super::mpi`). A serial `turf run` runs the same work in one process and
+//! keeps none of the results below.
 //!
 //! - A sweep point without an ensemble is one item, [`Item::Point`]: every stage of the point,
 //!   into its folder. Its records and error are kept in `point_result.json` there, with the
@@ -198,7 +199,7 @@ pub fn run_item(points: &[Point], item: Item, opts: &RunOptions) -> Result<Outco
                 }
             } else {
                 let (stages, error) =
-                    run_point(point, opts, None, &mut run_stage, &mut |_, _| Ok(()))?;
+                    run_point(point, opts, true, None, &mut run_stage, &mut |_, _| Ok(()))?;
                 if !matches!(
                     error,
                     Some(StageError::Interrupted { .. } | StageError::Report { .. })

@@ -58,6 +58,10 @@ pub struct StageContext<'a> {
     pub progress: Option<&'a indicatif::ProgressBar>,
     /// continue from a checkpoint in `out_dir` if there is one ([`RunOptions::resume`])
     pub resume: bool,
+    /// the run's work items keep their results ([`items`]): an ensemble reuses the
+    /// realisations kept in their folders and keeps those it computes; a serial run computes
+    /// every realisation
+    pub keep_realisations: bool,
 }
 
 /// What a stage returns: its answer and its cost.
@@ -285,7 +289,7 @@ pub fn run_with(
             store(&mut summary, done);
             write_json(&summary_path, &summary)
         };
-        let (_, error) = run_point(point, opts, bar.as_ref(), runner, &mut after)?;
+        let (_, error) = run_point(point, opts, false, bar.as_ref(), runner, &mut after)?;
         if error.is_some() {
             failure = error;
             break;
@@ -327,11 +331,16 @@ fn new_summary(loaded: &Loaded, out_dir: &Path) -> Result<Summary, ReportError> 
         error: None,
         stale_files: Vec::new(),
     };
-    std::fs::create_dir_all(out_dir).map_err(|cause| ReportError::Io {
-        path: out_dir.display().to_string(),
-        cause,
-    })?;
+    create_dir(out_dir)?;
     Ok(summary)
+}
+
+/// Make the output folder `dir` (and its parents), or say why it cannot be made.
+fn create_dir(dir: &Path) -> Result<(), ReportError> {
+    std::fs::create_dir_all(dir).map_err(|cause| ReportError::Io {
+        path: dir.display().to_string(),
+        cause,
+    })
 }
 
 /// The end of a run: the stale files listed and reported, `summary.json` and `report.md`
@@ -420,11 +429,13 @@ type AfterStage<'a> =
     dyn FnMut(&[StageRecord], Option<&StageError>) -> Result<(), ReportError> + 'a;
 
 /// Run the stages of `point` in order, calling `after` with the records so far and the
-/// failure, if any, after each stage; stops at the first failure. `Err` only when `after`
-/// fails (the summary could not be written).
+/// failure, if any, after each stage; stops at the first failure. `keep`: as a work item
+/// ([`StageContext::keep_realisations`]). `Err` only when `after` fails (the summary could not
+/// be written).
 fn run_point(
     point: &Point,
     opts: &RunOptions,
+    keep: bool,
     bar: Option<&indicatif::ProgressBar>,
     runner: &mut Runner,
     after: &mut AfterStage,
@@ -445,6 +456,7 @@ fn run_point(
             previous: &done,
             progress: bar,
             resume: opts.resume,
+            keep_realisations: keep,
         };
         let mut failure = run_cached(stage, scene, &point.root, &ctx, runner)
             .map(|record| done.push(record))

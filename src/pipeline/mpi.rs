@@ -62,10 +62,7 @@ pub fn run(loaded: &Loaded, opts: &RunOptions) -> Result<Option<RunReport>, Repo
         })?;
     let world = universe.world();
     let out_dir = scene::output_dir(&loaded.base, opts.out.as_deref());
-    std::fs::create_dir_all(&out_dir).map_err(|cause| ReportError::Io {
-        path: out_dir.display().to_string(),
-        cause,
-    })?;
+    super::create_dir(&out_dir)?;
     let points = points(loaded, &out_dir);
     if world.rank() != 0 {
         let root = world.process_at_rank(0);

@@ -94,10 +94,7 @@ pub fn run_shard(
     opts: &RunOptions,
 ) -> Result<Manifest, ReportError> {
     let out_dir = scene::output_dir(&loaded.base, opts.out.as_deref());
-    std::fs::create_dir_all(&out_dir).map_err(|cause| ReportError::Io {
-        path: out_dir.display().to_string(),
-        cause,
-    })?;
+    super::create_dir(&out_dir)?;
     let points = points(loaded, &out_dir);
     let mine: Vec<Item> = Items::of(&points)
         .work

@@ -5,46 +5,26 @@
 //! keeps the items it finished and its re-run computes only the others; merge refuses an
 //! incomplete set of shards by name; a sweep without an ensemble shards by point.
 
+use crate::common;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
-/// 4 compression depths × 4 realisations of a 4-tube turf in 2 segments a tube: 16
-/// realisation items and 4 reductions, a few seconds in all.
-const ENSEMBLE_SWEEP: &str = r#"
-[scene]
-name = "scale-out-test"
-seed = 5
-[turf]
-density = "1e10 1/cm^2"
-box = ["200 nm", "200 nm"]
-realisations = 4
-[turf.tube]
-r_o = "20 nm"
-r_i = "17.3 nm"
-youngs = "0.4 TPa"
-segment = "500 nm"
-[turf.growth]
-length = "1 um"
-length_spread = 0.05
-tilt = 0.005
-waviness = "3 nm"
-wavelength = "700 nm"
-[turf.vdw]
-gamma_line = "1 nN"
-[compression]
-to = 0.03
-steps = 2
-unload = false
-solver = "newton"
-tolerance = "1e-4 nN"
-[output]
-vtk = false
-plots = false
-[sweep]
-key = "compression.to"
-values = [0.01, 0.02, 0.03, 0.04]
-"#;
+/// The 4-tube test turf at 4 compression depths × 4 realisations, in 2 segments a tube, 2
+/// steps down: 16 realisation items and 4 reductions, a few seconds in all.
+fn ensemble_sweep() -> String {
+    let scene = common::SMALL_TURF_SCENE
+        .replace("[turf]\n", "[turf]\nrealisations = 4\n")
+        .replace("segment = \"125 nm\"", "segment = \"500 nm\"")
+        .replace(
+            "to = 0.3\nsteps = 5\nunload = true",
+            "to = 0.03\nsteps = 2\nunload = false",
+        )
+        .replace("tolerance = \"1e-6 nN\"", "tolerance = \"1e-4 nN\"")
+        .replace("[homogenize]\ncurve = \"loading\"\n", "")
+        .replace("vtk = true", "vtk = false");
+    format!("{scene}[sweep]\nkey = \"compression.to\"\nvalues = [0.01, 0.02, 0.03, 0.04]\n")
+}
 
 /// The closed forms over 4 values of γ: one item per point.
 const POINT_SWEEP: &str = r#"
@@ -181,7 +161,7 @@ fn serial_and_merged(dir: &Path, scene: &str, n: usize) -> (PathBuf, PathBuf) {
 
 #[test]
 fn an_ensemble_sweep_gives_the_same_numbers_serially_and_as_two_merged_shards() {
-    let (dir, scene) = setup("ensemble", ENSEMBLE_SWEEP);
+    let (dir, scene) = setup("ensemble", &ensemble_sweep());
     let (serial, merged) = serial_and_merged(&dir, &scene, 2);
     let (a, b) = (numbers(&serial), numbers(&merged));
     assert_eq!(a.0["points"].as_array().unwrap().len(), 4);
@@ -216,18 +196,19 @@ fn a_sweep_without_an_ensemble_shards_by_point() {
 
 #[test]
 fn a_killed_shard_keeps_what_it_finished_and_its_rerun_computes_only_the_rest() {
-    let (dir, scene) = setup("kill", ENSEMBLE_SWEEP);
+    let (dir, scene) = setup("kill", &ensemble_sweep());
     let out = dir.join("shard1");
     let manifest_path = out.join("shard.json");
+    let shard1 = [
+        "run",
+        &scene,
+        "--shard",
+        "1/2",
+        "--out",
+        out.to_str().unwrap(),
+    ];
     let mut child = Command::new(env!("CARGO_BIN_EXE_turf"))
-        .args([
-            "run",
-            &scene,
-            "--shard",
-            "1/2",
-            "--out",
-            out.to_str().unwrap(),
-        ])
+        .args(shard1)
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
@@ -273,14 +254,7 @@ fn a_killed_shard_keeps_what_it_finished_and_its_rerun_computes_only_the_rest() 
     }
 
     // the re-run keeps every item the killed run reported and computes the rest
-    ok(&turf(&[
-        "run",
-        &scene,
-        "--shard",
-        "1/2",
-        "--out",
-        out.to_str().unwrap(),
-    ]));
+    ok(&turf(&shard1));
     let m = json(&manifest_path);
     assert_eq!(m["complete"], true);
     let outcomes = m["outcomes"].as_array().unwrap();
@@ -333,7 +307,7 @@ fn a_bad_shard_is_refused_by_argument() {
 fn two_mpi_ranks_give_the_serial_numbers() {
     let bin =
         std::env::var("TURF_MPI_BIN").expect("TURF_MPI_BIN: a turf built with --features mpi");
-    let (dir, scene) = setup("mpi", ENSEMBLE_SWEEP);
+    let (dir, scene) = setup("mpi", &ensemble_sweep());
     let serial = dir.join("serial");
     ok(&turf(&["run", &scene, "--out", serial.to_str().unwrap()]));
     let ranks = dir.join("mpi");
