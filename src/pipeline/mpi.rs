@@ -9,8 +9,10 @@
 //! (`MPI_THREAD_FUNNELED` is enough). Messages are JSON: a worker sends a [`Report`] (its first
 //! says it is ready), the coordinator answers with the next `Option<Item>` (`None`: stop).
 //! Files go straight from each worker into the output folder, so the ranks need one shared
-//! file system (as on any cluster's scratch). Both sides poll every [`POLL`] instead of
-//! blocking, so an idle rank leaves its core to the others.
+//! file system (as on any cluster's scratch). Both sides poll instead of blocking, so an idle
+//! rank leaves its core to the others: the first look again after [`POLL_FIRST`], each wait
+//! twice the last up to [`POLL_LONGEST`] (quick answers in a burst of short items, little CPU
+//! while items run for minutes).
 
 use super::items::{assemble, outcome_line, run_item, Item, Items, Outcome};
 use super::{points, say, Point, RunOptions, RunReport};
@@ -22,8 +24,22 @@ use std::collections::{BTreeMap, VecDeque};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-/// How long a rank waits between two looks for a message.
-pub const POLL: Duration = Duration::from_micros(100);
+/// The first wait for a message.
+pub const POLL_FIRST: Duration = Duration::from_micros(50);
+/// The longest wait between two looks for a message.
+pub const POLL_LONGEST: Duration = Duration::from_millis(2);
+
+/// Look for a message with `receive` until there is one, waiting longer between looks.
+fn wait_for<T>(mut receive: impl FnMut() -> Option<T>) -> T {
+    let mut wait = POLL_FIRST;
+    loop {
+        if let Some(t) = receive() {
+            return t;
+        }
+        std::thread::sleep(wait);
+        wait = (wait * 2).min(POLL_LONGEST);
+    }
+}
 
 /// The environment variables by which a launcher (Open MPI's, PMI, PMIx, MPICH's Hydra)
 /// tells a process that it is one rank of several.
@@ -141,10 +157,7 @@ fn coordinate(
     let (mut outstanding, mut finished) = (0usize, 0usize);
     let swept = loaded.base.scene.sweep.is_some();
     while !(ready.is_empty() && outstanding == 0 && idle.len() == workers) {
-        let Some((worker, bytes)) = receive() else {
-            std::thread::sleep(POLL);
-            continue;
-        };
+        let (worker, bytes) = wait_for(&mut receive);
         let report: Report = match serde_json::from_slice(&bytes) {
             Ok(r) => r,
             Err(e) => {
@@ -204,12 +217,7 @@ fn work(
     loop {
         send(serde_json::to_vec(&report).unwrap_or_default());
         let asked = Instant::now();
-        let bytes = loop {
-            match receive() {
-                Some(b) => break b,
-                None => std::thread::sleep(POLL),
-            }
-        };
+        let bytes = wait_for(&mut receive);
         let wait_us = asked.elapsed().as_secs_f64() * 1e6;
         let Ok(Some(item)) = serde_json::from_slice::<Option<Item>>(&bytes) else {
             return;
