@@ -11,8 +11,9 @@
 //! Files go straight from each worker into the output folder, so the ranks need one shared
 //! file system (as on any cluster's scratch). Both sides poll instead of blocking, so an idle
 //! rank leaves its core to the others: the first look again after [`POLL_FIRST`], each wait
-//! twice the last up to [`POLL_LONGEST`] (quick answers in a burst of short items, little CPU
-//! while items run for minutes).
+//! twice the last up to [`COORDINATOR_POLL`] for the coordinator (little CPU while items run
+//! for minutes, quick answers in a burst of short items) and [`WORKER_POLL`] for a worker
+//! waiting for its next item (which usually comes at once).
 
 use super::items::{assemble, outcome_line, run_item, Item, Items, Outcome};
 use super::{points, say, Point, RunOptions, RunReport};
@@ -26,18 +27,21 @@ use std::time::{Duration, Instant};
 
 /// The first wait for a message.
 pub const POLL_FIRST: Duration = Duration::from_micros(50);
-/// The longest wait between two looks for a message.
-pub const POLL_LONGEST: Duration = Duration::from_millis(2);
+/// The coordinator's longest wait between two looks for a report.
+pub const COORDINATOR_POLL: Duration = Duration::from_millis(1);
+/// A worker's longest wait between two looks for its next item.
+pub const WORKER_POLL: Duration = Duration::from_micros(200);
 
-/// Look for a message with `receive` until there is one, waiting longer between looks.
-fn wait_for<T>(mut receive: impl FnMut() -> Option<T>) -> T {
+/// Look for a message with `receive` until there is one, waiting longer between looks, up
+/// to `longest`.
+fn wait_for<T>(longest: Duration, mut receive: impl FnMut() -> Option<T>) -> T {
     let mut wait = POLL_FIRST;
     loop {
         if let Some(t) = receive() {
             return t;
         }
         std::thread::sleep(wait);
-        wait = (wait * 2).min(POLL_LONGEST);
+        wait = (wait * 2).min(longest);
     }
 }
 
@@ -157,7 +161,7 @@ fn coordinate(
     let (mut outstanding, mut finished) = (0usize, 0usize);
     let swept = loaded.base.scene.sweep.is_some();
     while !(ready.is_empty() && outstanding == 0 && idle.len() == workers) {
-        let (worker, bytes) = wait_for(&mut receive);
+        let (worker, bytes) = wait_for(COORDINATOR_POLL, &mut receive);
         let report: Report = match serde_json::from_slice(&bytes) {
             Ok(r) => r,
             Err(e) => {
@@ -217,7 +221,7 @@ fn work(
     loop {
         send(serde_json::to_vec(&report).unwrap_or_default());
         let asked = Instant::now();
-        let bytes = wait_for(&mut receive);
+        let bytes = wait_for(WORKER_POLL, &mut receive);
         let wait_us = asked.elapsed().as_secs_f64() * 1e6;
         let Ok(Some(item)) = serde_json::from_slice::<Option<Item>>(&bytes) else {
             return;
