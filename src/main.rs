@@ -19,6 +19,8 @@ enum Command {
     Run(cli::run::RunArgs),
     /// Validate a scene and print the plan; run nothing.
     Check(cli::run::CheckArgs),
+    /// Assemble the folders of `turf run SCENE --shard I/N` into one output tree and summary.
+    Merge(cli::merge::MergeArgs),
     /// Closed-form calculators (Hertz, JKR, DMT, Maugis–Dugdale, Tabor, ...).
     Theory(cli::theory::TheoryArgs),
     /// Fit a material card from a stress–strain curve or a tangent law.
@@ -34,6 +36,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(a) => cli::run::run(a),
         Command::Check(a) => cli::run::check(a),
+        Command::Merge(a) => cli::merge::run(a),
         Command::Theory(a) => cli::theory::run(a),
         Command::Homogenize(a) => cli::homogenize::run(a),
         Command::FitIndentation(a) => cli::fit_indentation::run(a),

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod fit_indentation;
 pub mod homogenize;
+pub mod merge;
 pub mod run;
 pub mod theory;
 pub mod theory_law;

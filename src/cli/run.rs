@@ -3,7 +3,8 @@
 use clap::Args;
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use turf::pipeline::{self, RunOptions};
+use turf::pipeline::shard::Shard;
+use turf::pipeline::{self, RunOptions, RunReport};
 use turf::scene::plan::{sig, Plan};
 use turf::scene::resources::{bytes_text, FE_BYTES_PER_ELEMENT};
 use turf::scene::{self, Loaded, ResolvedScene};
@@ -26,6 +27,10 @@ pub struct RunArgs {
     /// compression saves one after every strain step); same curve as an uninterrupted run.
     #[arg(long)]
     pub resume: bool,
+    /// Run only the I-th of N slices of the scene's work items (sweep points × realisations),
+    /// for a scheduler's job array; `turf merge` assembles the slices' folders.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<Shard>,
 }
 
 /// Arguments of `turf check`.
@@ -60,8 +65,59 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     }
     // Ctrl-C / SIGTERM stop long stages at their next step, keeping what they reached
     turf::interrupt::install();
-    let report = pipeline::run(&loaded, &opts)?;
-    if args.json {
+    if let Some(shard) = args.shard {
+        let m = pipeline::shard::run_shard(&loaded, &args.scene, &args.set, shard, &opts)?;
+        let dir = scene::output_dir(&loaded.base, opts.out.as_deref());
+        let failed = m.outcomes.iter().filter(|o| o.error.is_some()).count();
+        if args.json {
+            println!("{}", serde_json::to_string_pretty(&m)?);
+        } else {
+            println!(
+                "shard {}: {} of {} item(s) done ({failed} failed) in {}; `turf merge` \
+                 assembles all {} shards",
+                m.shard,
+                m.outcomes.len(),
+                m.items,
+                dir.display(),
+                shard.count
+            );
+        }
+        if !m.complete {
+            anyhow::bail!("shard {} stopped before its last item", m.shard);
+        }
+        return Ok(());
+    }
+    #[cfg(not(feature = "mpi"))]
+    if let Some(ranks) = launched_ranks() {
+        anyhow::bail!(
+            "turf was started as one of {ranks} MPI ranks but built without the `mpi` feature: \
+             each rank would run the whole scene into the same folder. Build with `cargo build \
+             --release --features mpi` (docs/scaling.md), or run without mpirun"
+        );
+    }
+    #[cfg(feature = "mpi")]
+    if pipeline::mpi::launched() {
+        return match pipeline::mpi::run(&loaded, &opts)? {
+            Some(report) => print_report(report, args.json),
+            None => Ok(()),
+        };
+    }
+    print_report(pipeline::run(&loaded, &opts)?, args.json)
+}
+
+/// The ranks a launcher (`mpirun`, `srun` with PMI) started, when more than one.
+#[cfg(not(feature = "mpi"))]
+fn launched_ranks() -> Option<usize> {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok()?.parse::<usize>().ok())
+        .filter(|&n| n > 1)
+}
+
+/// Print what a run did (every stage's time, evaluations and values, or the summary as JSON
+/// with `json`); an error when it did not finish.
+pub fn print_report(report: RunReport, json: bool) -> anyhow::Result<()> {
+    if json {
         println!("{}", serde_json::to_string_pretty(&report.summary)?);
     } else {
         for r in report.summary.stages.iter().chain(
@@ -83,9 +139,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         }
     }
     let summary = report.out_dir.join("summary.json");
-    match report.failure {
+    let error = report.failure.map(|e| e.to_string());
+    match error.or(report.summary.error) {
         None => {
-            if !args.json {
+            if !json {
                 println!("results in {}", report.out_dir.display());
             }
             Ok(())

@@ -24,6 +24,11 @@
 //! summary's `ensemble_*` values and `plots/discrete_ensemble.{svg,png}` (the band). A
 //! realisation that fails is named with its seed and reason, keeps the steps it reached, and
 //! the ensemble goes on without it; the stage fails only when every realisation failed.
+//! In the work items of a shard or MPI run ([`super::items`],
+//! [`StageContext::keep_realisations`]) each realisation keeps its result (or its engine's
+//! failure) in its folder, `discrete_realisation.json`, with the inputs it came from; the
+//! point's reduction, and any later such run into the folder with the same inputs, reuses it
+//! instead of recomputing it.
 
 use super::ensemble::{self, PathEnsemble};
 use super::{StageContext, StageError, StageOutput};
@@ -133,6 +138,55 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         }
         return run_rods(r, s.output.vtk, ctx);
     }
+    let (t, k) = turf_and_compression(s)?;
+    let job = |index: usize| Job::new(s, t, k, index, ctx);
+    if t.realisations == 1 {
+        return run_realisation(&job(0), &AtomicUsize::new(0)).map(Finished::into_output);
+    }
+    let done = AtomicUsize::new(0);
+    let results: Vec<Result<Finished, StageError>> = (0..t.realisations)
+        .into_par_iter()
+        .map(|i| {
+            let r = if ctx.keep_realisations {
+                kept_or_run(&job(i), &done)
+            } else {
+                run_realisation(&job(i), &done)
+            };
+            done.fetch_add(1, Ordering::Relaxed);
+            r
+        })
+        .collect();
+    ensemble_output(s, results, ctx)
+}
+
+/// A work item ([`super::items`]): realisation `index` of the ensemble of `scene` (`dir` the
+/// point's folder), kept in its folder for the stage that reduces the ensemble. `Ok(true)`
+/// when an earlier run had kept it; a realisation that failed is kept as a failure and
+/// returned as the error.
+pub(super) fn run_realisation_item(
+    scene: &ResolvedScene,
+    dir: &Path,
+    index: usize,
+    resume: bool,
+) -> Result<bool, StageError> {
+    let s = &scene.scene;
+    let (t, k) = turf_and_compression(s)?;
+    let ctx = StageContext {
+        out_dir: dir,
+        previous: &[],
+        progress: None,
+        resume,
+        keep_realisations: true,
+    };
+    let job = Job::new(s, t, k, index, &ctx);
+    let kept = kept(&job)?.is_some();
+    kept_or_run(&job, &AtomicUsize::new(0)).map(|_| kept)
+}
+
+/// The `[turf]` and `[compression]` of a turf scene, or why the stage cannot run it.
+fn turf_and_compression(
+    s: &crate::scene::Scene,
+) -> Result<(&crate::scene::turf::Turf, &Compression), StageError> {
     let (Some(t), Some(k)) = (&s.turf, &s.compression) else {
         return Err(failed("needs [turf] and [compression]".into()));
     };
@@ -141,28 +195,55 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             "compression.platen = \"bonded\" is not built: the platen is frictionless".into(),
         ));
     }
-    let job = |index: usize| Job {
-        scene: s,
-        turf: t,
-        compression: k,
-        index,
-        count: t.realisations,
-        seed: ensemble::realisation_seed(s.scene.seed, index),
-        ctx,
+    Ok((t, k))
+}
+
+/// The file in a realisation's folder that keeps its result ([`kept_or_run`]).
+const REALISATION_RESULT: &str = "discrete_realisation.json";
+
+/// A realisation's result as kept on disk: the inputs it was computed from, and what it
+/// gave or why it failed.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Kept {
+    inputs: String,
+    result: Result<Finished, String>,
+}
+
+/// The result kept for `job` by an earlier run or work item with the same inputs, with
+/// every file it lists still there; `None` when there is none.
+fn kept(job: &Job) -> Result<Option<Result<Finished, String>>, StageError> {
+    let inputs = job.inputs()?;
+    let path = job.ctx.out_dir.join(job.rel()).join(REALISATION_RESULT);
+    let Some(kept) = std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Kept>(&t).ok())
+    else {
+        return Ok(None);
     };
-    if t.realisations == 1 {
-        return run_realisation(&job(0), &AtomicUsize::new(0)).map(Finished::into_output);
+    let complete = match &kept.result {
+        Ok(f) => f.index == job.index && f.files.iter().all(|p| job.ctx.out_dir.join(p).is_file()),
+        Err(_) => true,
+    };
+    Ok((kept.inputs == inputs && complete).then_some(kept.result))
+}
+
+/// Realisation `job.index` of an ensemble: the result an earlier run or work item kept for
+/// the same inputs (a failure too: the engines are deterministic), else computed and kept. An
+/// interrupted realisation is not kept: it continues from its checkpoint with `--resume`.
+fn kept_or_run(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError> {
+    if let Some(result) = kept(job)? {
+        return result.map_err(failed);
     }
-    let done = AtomicUsize::new(0);
-    let results: Vec<Result<Finished, StageError>> = (0..t.realisations)
-        .into_par_iter()
-        .map(|i| {
-            let r = run_realisation(&job(i), &done);
-            done.fetch_add(1, Ordering::Relaxed);
-            r
-        })
-        .collect();
-    ensemble_output(s, results, ctx)
+    let result = run_realisation(job, done);
+    let keep = match &result {
+        Ok(f) => Ok(f),
+        Err(StageError::Failed { message, .. }) => Err(message.clone()),
+        Err(_) => return result,
+    };
+    let path = job.ctx.out_dir.join(job.rel()).join(REALISATION_RESULT);
+    let kept = serde_json::json!({"inputs": job.inputs()?, "result": keep});
+    write_json(&path, &kept).map_err(report)?;
+    result
 }
 
 /// One realisation of the turf to compress.
@@ -179,7 +260,46 @@ struct Job<'a> {
     ctx: &'a StageContext<'a>,
 }
 
-impl Job<'_> {
+impl<'a> Job<'a> {
+    fn new(
+        scene: &'a crate::scene::Scene,
+        turf: &'a crate::scene::turf::Turf,
+        compression: &'a Compression,
+        index: usize,
+        ctx: &'a StageContext<'a>,
+    ) -> Self {
+        Job {
+            scene,
+            turf,
+            compression,
+            index,
+            count: turf.realisations,
+            seed: ensemble::realisation_seed(scene.scene.seed, index),
+            ctx,
+        }
+    }
+
+    /// What the realisation's result depends on, as canonical JSON: its seed, the turf
+    /// without the ensemble's size, the compression, the sphere's adhesion, the files asked
+    /// for, the turf version.
+    fn inputs(&self) -> Result<String, StageError> {
+        let single = crate::scene::turf::Turf {
+            realisations: 1,
+            ..self.turf.clone()
+        };
+        let s = self.scene;
+        let v = serde_json::to_value((
+            env!("CARGO_PKG_VERSION"),
+            self.seed,
+            &single,
+            self.compression,
+            &s.adhesion,
+            (s.output.vtk, s.output.plots),
+        ))
+        .map_err(|e| failed(format!("realisation inputs: {e}")))?;
+        Ok(super::cache::canonical_json(&v))
+    }
+
     /// The realisation's folder relative to the output folder.
     fn rel(&self) -> PathBuf {
         ensemble::realisation_dir(self.index)
@@ -204,10 +324,12 @@ impl Job<'_> {
 }
 
 /// A realisation compressed: its curve, its analysis and what the summary reports of it.
+#[derive(serde::Serialize, serde::Deserialize)]
 struct Finished {
     index: usize,
     seed: u64,
-    records: Vec<StepRecord>,
+    /// the path every step: nominal strain, whether on the way down, nominal stress (GPa)
+    path: Vec<(f64, bool, f64)>,
     values: BTreeMap<String, f64>,
     /// the tangent table (realisation 0's goes into the summary's tables)
     tangent: Table,
@@ -531,7 +653,10 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     Ok(Finished {
         index: job.index,
         seed: job.seed,
-        records,
+        path: records
+            .iter()
+            .map(|r| (r.strain, r.loading, r.stress))
+            .collect(),
         values,
         tangent,
         files,
@@ -609,13 +734,13 @@ fn ensemble_output(
             None => eprintln!("{line}"),
         }
     }
-    let path = &first.records;
+    let path = &first.path;
     let ensemble = PathEnsemble::new(
-        path.iter().map(|r| r.strain).collect(),
-        path.iter().map(|r| r.loading).collect(),
+        path.iter().map(|p| p.0).collect(),
+        path.iter().map(|p| p.1).collect(),
         finished
             .iter()
-            .map(|f| (f.index, f.records.iter().map(|r| r.stress).collect()))
+            .map(|f| (f.index, f.path.iter().map(|p| p.2).collect()))
             .collect(),
     )
     .map_err(failed)?;

@@ -33,6 +33,10 @@ pub use discrete_stage::{CHECKPOINT, ENSEMBLE_CSV, ENSEMBLE_LOADING_CSV, LOADING
 pub mod ensemble;
 mod halfspace_stage;
 mod homogenize_stage;
+pub mod items;
+#[cfg(feature = "mpi")]
+pub mod mpi;
+pub mod shard;
 mod theory_stage;
 
 use crate::report::{csv::Table, write_json, ReportError};
@@ -54,6 +58,10 @@ pub struct StageContext<'a> {
     pub progress: Option<&'a indicatif::ProgressBar>,
     /// continue from a checkpoint in `out_dir` if there is one ([`RunOptions::resume`])
     pub resume: bool,
+    /// the run's work items keep their results ([`items`]): an ensemble reuses the
+    /// realisations kept in their folders and keeps those it computes; a serial run computes
+    /// every realisation
+    pub keep_realisations: bool,
 }
 
 /// What a stage returns: its answer and its cost.
@@ -264,9 +272,47 @@ pub fn run_with(
     opts: &RunOptions,
     runner: &mut Runner,
 ) -> Result<RunReport, ReportError> {
+    let out_dir = crate::scene::output_dir(&loaded.base, opts.out.as_deref());
+    let mut summary = new_summary(loaded, &out_dir)?;
+    let summary_path = out_dir.join("summary.json");
+    let earlier = earlier_files(&summary_path);
+    let points = points(loaded, &out_dir);
+    let total: usize = points.iter().map(|p| p.scene.plan.stages.len()).sum();
+    let bar = opts.progress.then(|| progress_bar(total as u64, "stages"));
+    let mut failure = None;
+    for point in &points {
+        if let (Some(sw), Some(entry)) = (summary.sweep.as_mut(), point.entry()) {
+            sw.points.push(entry);
+        }
+        let mut after = |done: &[StageRecord], error: Option<&StageError>| {
+            summary.error = error.map(|e| e.to_string());
+            store(&mut summary, done);
+            write_json(&summary_path, &summary)
+        };
+        let (_, error) = run_point(point, opts, false, bar.as_ref(), runner, &mut after)?;
+        if error.is_some() {
+            failure = error;
+            break;
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    summary.complete = failure.is_none();
+    finish(&mut summary, &earlier, &out_dir)?;
+    Ok(RunReport {
+        out_dir,
+        summary,
+        failure,
+    })
+}
+
+/// The head of the summary of a run of `loaded` into `out_dir`, no stage run yet (an empty
+/// `sweep` for a sweep); makes the folder, so that it fails with one clear error before any
+/// stage runs.
+fn new_summary(loaded: &Loaded, out_dir: &Path) -> Result<Summary, ReportError> {
     let base = &loaded.base;
-    let out_dir = crate::scene::output_dir(base, opts.out.as_deref());
-    let mut summary = Summary {
+    let summary = Summary {
         turf_version: env!("CARGO_PKG_VERSION"),
         file: base.file.display().to_string(),
         units: UNITS,
@@ -277,99 +323,34 @@ pub fn run_with(
         derived: base.derived.clone(),
         plan: base.plan.clone(),
         stages: Vec::new(),
-        sweep: None,
+        sweep: base.scene.sweep.as_ref().map(|s| SweepSummary {
+            key: s.key.clone(),
+            points: Vec::new(),
+        }),
         complete: false,
         error: None,
         stale_files: Vec::new(),
     };
-    // the folder first: one clear error, before any stage runs, when it cannot be made
-    std::fs::create_dir_all(&out_dir).map_err(|cause| ReportError::Io {
-        path: out_dir.display().to_string(),
+    create_dir(out_dir)?;
+    Ok(summary)
+}
+
+/// Make the output folder `dir` (and its parents), or say why it cannot be made.
+fn create_dir(dir: &Path) -> Result<(), ReportError> {
+    std::fs::create_dir_all(dir).map_err(|cause| ReportError::Io {
+        path: dir.display().to_string(),
         cause,
-    })?;
-    let summary_path = out_dir.join("summary.json");
-    let earlier = earlier_files(&summary_path);
-    let points: Vec<(Option<&toml::Value>, &ResolvedScene)> = if loaded.sweep.is_empty() {
-        vec![(None, base)]
-    } else {
-        summary.sweep = Some(SweepSummary {
-            key: base
-                .scene
-                .sweep
-                .as_ref()
-                .map_or(String::new(), |s| s.key.clone()),
-            points: Vec::new(),
-        });
-        loaded
-            .sweep
-            .iter()
-            .map(|p| (Some(&p.value), &p.scene))
-            .collect()
-    };
-    let total: usize = points.iter().map(|(_, s)| s.plan.stages.len()).sum();
-    let bar = opts.progress.then(|| progress_bar(total as u64, "stages"));
-    let mut failure = None;
-    'points: for (i, (value, scene)) in points.iter().enumerate() {
-        let (dir, rel) = match value {
-            None => (out_dir.clone(), String::new()),
-            Some(_) => {
-                let rel = format!("sweep_{i:03}");
-                (out_dir.join(&rel), rel)
-            }
-        };
-        if let (Some(v), Some(sw)) = (value, summary.sweep.as_mut()) {
-            sw.points.push(PointSummary {
-                value: (*v).clone(),
-                dir: rel.clone(),
-                derived: scene.derived.clone(),
-                stages: Vec::new(),
-            });
-        }
-        let mut done: Vec<StageRecord> = Vec::new();
-        for planned in &scene.plan.stages {
-            let stage = planned.stage;
-            if let Some(b) = &bar {
-                b.set_message(match value {
-                    Some(v) => format!(
-                        "{stage} ({} = {v})",
-                        base.scene.sweep.as_ref().map_or("", |s| s.key.as_str())
-                    ),
-                    None => stage.to_string(),
-                });
-            }
-            let ctx = StageContext {
-                out_dir: &dir,
-                previous: &done,
-                progress: bar.as_ref(),
-                resume: opts.resume,
-            };
-            let result = run_cached(stage, scene, &out_dir, &ctx, runner);
-            if let Some(b) = &bar {
-                b.inc(1);
-            }
-            match result {
-                Ok(record) => done.push(record),
-                Err(e) => failure = Some(e),
-            }
-            if failure.is_none() && crate::interrupt::requested() {
-                failure = Some(StageError::Interrupted {
-                    stage,
-                    message: format!("{}, after the stage finished", crate::interrupt::REASON),
-                });
-            }
-            summary.error = failure.as_ref().map(|e| e.to_string());
-            store(&mut summary, &done, value.is_some());
-            write_json(&summary_path, &summary)?;
-            if failure.is_some() {
-                break 'points;
-            }
-        }
-    }
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    summary.complete = failure.is_none();
-    summary.stale_files = stale_files(&earlier, &summary, &out_dir);
+    })
+}
+
+/// The end of a run: the stale files listed and reported, `summary.json` and `report.md`
+/// written.
+fn finish(
+    summary: &mut Summary,
+    earlier: &BTreeSet<String>,
+    out_dir: &Path,
+) -> Result<(), ReportError> {
+    summary.stale_files = stale_files(earlier, summary, out_dir);
     if !summary.stale_files.is_empty() {
         say(
             None,
@@ -383,13 +364,118 @@ pub fn run_with(
             ),
         );
     }
-    write_json(&summary_path, &summary)?;
-    crate::report::markdown::write_run_report(&summary, &out_dir)?;
-    Ok(RunReport {
-        out_dir,
-        summary,
-        failure,
-    })
+    write_json(&out_dir.join("summary.json"), summary)?;
+    crate::report::markdown::write_run_report(summary, out_dir).map(|_| ())
+}
+
+/// One point of a run: the scene without a sweep, or one swept value.
+pub struct Point<'a> {
+    /// the point's index (0 without a sweep)
+    pub index: usize,
+    /// the swept value (`None` without a sweep)
+    pub value: Option<&'a toml::Value>,
+    /// the point's resolved scene
+    pub scene: &'a ResolvedScene,
+    /// the run's output folder (home of the stage cache)
+    pub root: PathBuf,
+    /// the point's folder relative to `root`: `sweep_NNN`, or empty without a sweep
+    pub rel: String,
+}
+
+impl Point<'_> {
+    /// The folder the point's stages write into.
+    pub fn dir(&self) -> PathBuf {
+        match self.rel.as_str() {
+            "" => self.root.clone(),
+            rel => self.root.join(rel),
+        }
+    }
+
+    /// The point's entry in the summary's `sweep` (`None` without a sweep), its stages still
+    /// empty.
+    fn entry(&self) -> Option<PointSummary> {
+        self.value.map(|v| PointSummary {
+            value: v.clone(),
+            dir: self.rel.clone(),
+            derived: self.scene.derived.clone(),
+            stages: Vec::new(),
+        })
+    }
+}
+
+/// The points of `loaded` run into `out_dir`: the scene itself, or one per swept value.
+pub fn points<'a>(loaded: &'a Loaded, out_dir: &Path) -> Vec<Point<'a>> {
+    if loaded.sweep.is_empty() {
+        return vec![Point {
+            index: 0,
+            value: None,
+            scene: &loaded.base,
+            root: out_dir.to_path_buf(),
+            rel: String::new(),
+        }];
+    }
+    let point = |(index, p): (usize, &'a crate::scene::SweepPoint)| Point {
+        index,
+        value: Some(&p.value),
+        scene: &p.scene,
+        root: out_dir.to_path_buf(),
+        rel: format!("sweep_{index:03}"),
+    };
+    loaded.sweep.iter().enumerate().map(point).collect()
+}
+
+/// What [`run_point`] calls after each stage: the records so far, the failure if any.
+type AfterStage<'a> =
+    dyn FnMut(&[StageRecord], Option<&StageError>) -> Result<(), ReportError> + 'a;
+
+/// Run the stages of `point` in order, calling `after` with the records so far and the
+/// failure, if any, after each stage; stops at the first failure. `keep`: as a work item
+/// ([`StageContext::keep_realisations`]). `Err` only when `after` fails (the summary could not
+/// be written).
+fn run_point(
+    point: &Point,
+    opts: &RunOptions,
+    keep: bool,
+    bar: Option<&indicatif::ProgressBar>,
+    runner: &mut Runner,
+    after: &mut AfterStage,
+) -> Result<(Vec<StageRecord>, Option<StageError>), ReportError> {
+    let (scene, dir) = (point.scene, point.dir());
+    let key = scene.scene.sweep.as_ref().map_or("", |s| s.key.as_str());
+    let mut done: Vec<StageRecord> = Vec::new();
+    for planned in &scene.plan.stages {
+        let stage = planned.stage;
+        if let Some(b) = bar {
+            b.set_message(match point.value {
+                Some(v) => format!("{stage} ({key} = {v})"),
+                None => stage.to_string(),
+            });
+        }
+        let ctx = StageContext {
+            out_dir: &dir,
+            previous: &done,
+            progress: bar,
+            resume: opts.resume,
+            keep_realisations: keep,
+        };
+        let mut failure = run_cached(stage, scene, &point.root, &ctx, runner)
+            .map(|record| done.push(record))
+            .err();
+        if let Some(b) = bar {
+            b.inc(1);
+        }
+        if failure.is_none() && crate::interrupt::requested() {
+            failure = Some(StageError::Interrupted {
+                stage,
+                message: format!("{}, after the stage finished", crate::interrupt::REASON),
+            });
+        }
+        after(&done, failure.as_ref())?;
+        if failure.is_some() {
+            return Ok((done, failure));
+        }
+    }
+    Ok((done, None))
 }
 
 /// The files a `summary.json` lists (each stage's `files`, a sweep point's under its `dir`,
@@ -441,14 +527,11 @@ fn stale_files(earlier: &BTreeSet<String>, summary: &Summary, out_dir: &Path) ->
         .collect()
 }
 
-/// Put the current point's records into the summary.
-fn store(summary: &mut Summary, done: &[StageRecord], swept: bool) {
-    match (
-        swept,
-        summary.sweep.as_mut().and_then(|s| s.points.last_mut()),
-    ) {
-        (true, Some(p)) => p.stages = done.to_vec(),
-        _ => summary.stages = done.to_vec(),
+/// Put the current point's records into the summary (its last sweep point, or its stages).
+fn store(summary: &mut Summary, done: &[StageRecord]) {
+    match summary.sweep.as_mut().and_then(|s| s.points.last_mut()) {
+        Some(p) => p.stages = done.to_vec(),
+        None => summary.stages = done.to_vec(),
     }
 }
 

@@ -9,7 +9,7 @@ use super::{write_atomic, ReportError};
 use std::path::Path;
 
 /// A table of equally long named columns.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Table {
     columns: Vec<(String, Vec<f64>)>,
 }

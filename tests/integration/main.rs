@@ -35,6 +35,7 @@ mod pipeline_chain;
 mod reader_fuzz;
 mod run_report;
 mod run_robustness;
+mod scale_out;
 mod scene_errors;
 mod scene_examples;
 mod scene_props;
