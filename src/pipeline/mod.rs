@@ -33,6 +33,7 @@ pub use discrete_stage::{CHECKPOINT, ENSEMBLE_CSV, ENSEMBLE_LOADING_CSV, LOADING
 pub mod ensemble;
 mod halfspace_stage;
 mod homogenize_stage;
+mod rve_stage;
 mod theory_stage;
 
 use crate::report::{csv::Table, write_json, ReportError};

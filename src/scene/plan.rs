@@ -442,6 +442,18 @@ fn plan_homogenize(scene: &Scene, stages: &mut Vec<PlannedStage>, c: &mut Checke
                     "\"loading\" and \"unloading\" fit the discrete stage's curve: add [turf] + [compression], or use \"tangent-law\"",
                 );
             }
+            if scene
+                .compression
+                .as_ref()
+                .is_some_and(|k| k.mode != crate::scene::compression::Mode::Axial)
+            {
+                c.bad(
+                    "compression.mode",
+                    "only \"axial\" gives the curve [homogenize] fits (the lateral and shear \
+                     tests measure the transverse response): set mode = \"axial\" or remove \
+                     [homogenize]",
+                );
+            }
             if h.curve == Curve::Unloading && !scene.compression.as_ref().is_some_and(|k| k.unload)
             {
                 c.bad(

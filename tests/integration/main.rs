@@ -20,6 +20,7 @@ mod discrete_rod_euler;
 mod discrete_rod_postbuckling;
 mod discrete_rod_solvers;
 mod discrete_rods_scene;
+mod discrete_rve;
 mod discrete_sphere_pulloff;
 mod discrete_vdw_broadphase;
 mod discrete_vdw_two_tubes;
