@@ -1,6 +1,7 @@
 //! Homogeneous tests of the continuum solver on a small block (r ∈ [0, 10], z ∈ [−10, 0] nm):
 //! uniaxial compression of a hyperfoam with β = 0 against the closed form
-//! T = (2μ/α)(λ^(α−1) − λ^(−1)) with no lateral strain, and stress relaxation under a step
+//! T = (2μ/α)(λ^(α−1) − λ^(−1)) with no lateral strain, the transversely isotropic foam along
+//! its axis against its card's closed form (issue 19), and stress relaxation under a step
 //! strain against g(t) = 1 − μ̄(1 − e^(−t/τ)) (seed eq. 5.8).
 
 use turf::continuum::assembly::{Assembler, Solid};
@@ -35,15 +36,19 @@ fn block() -> Mesh {
 
 fn foam(prony: Vec<PronyTerm>) -> Box<Viscoelastic<Elastic>> {
     Box::new(Viscoelastic {
-        elastic: Elastic::Hyperfoam(Hyperfoam {
-            terms: vec![HyperfoamTerm {
-                mu: 0.35,
-                alpha: 18.8,
-                beta: 0.0,
-            }],
-        }),
+        elastic: Elastic::Hyperfoam(hyperfoam(0.35, 18.8)),
         prony,
     })
+}
+
+fn hyperfoam(mu: f64, alpha: f64) -> Hyperfoam {
+    Hyperfoam {
+        terms: vec![HyperfoamTerm {
+            mu,
+            alpha,
+            beta: 0.0,
+        }],
+    }
 }
 
 /// Axis u_r = 0, base u_z = 0 (roller), top u_z prescribed.
@@ -110,6 +115,52 @@ fn uniaxial_hyperfoam_compression_matches_the_closed_form_without_lateral_strain
         assert!(
             (force / area - t).abs() <= CLOSED_FORM_TOL * t.abs(),
             "λ = {lambda}: {} vs {t}",
+            force / area
+        );
+        let lateral = (0..mesh.nodes.len())
+            .map(|n| u[2 * n].abs())
+            .fold(0.0, f64::max);
+        assert!(
+            lateral <= CLOSED_FORM_TOL * SIDE,
+            "lateral displacement {lateral}"
+        );
+    }
+}
+
+#[test]
+fn uniaxial_transverse_foam_compression_along_its_axis_matches_the_closed_form() {
+    use turf::continuum::material::transverse_foam::{FibreTerm, TransverseFoam};
+    let (matrix, fibre, shear) = ((2e-4, 4.0), (8e-3, 6.5), 3e-3);
+    let material = Box::new(Viscoelastic {
+        elastic: Elastic::Transverse(TransverseFoam {
+            matrix: hyperfoam(matrix.0, matrix.1),
+            fibre: vec![FibreTerm {
+                mu: fibre.0,
+                alpha: fibre.1,
+            }],
+            shear,
+        }),
+        prony: vec![],
+    });
+    let mesh = block();
+    let mut solid = Solid::new(&mesh, Kinematics::Finite, material).unwrap();
+    constrain(&mut solid, &mesh);
+    let mut asm = Assembler::new(&solid, None).unwrap();
+    let mut u = vec![0.0; solid.dofs()];
+    for (n, x) in mesh.nodes.iter().enumerate() {
+        u[2 * n] = 0.01 * x[0] * (x[1] / SIDE).sin();
+    }
+    for &n in &mesh.axis {
+        u[2 * n] = 0.0;
+    }
+    let area = std::f64::consts::PI * SIDE * SIDE;
+    let t = |(mu, alpha): (f64, f64), l: f64| 2.0 * mu / alpha * (l.powf(alpha - 1.0) - 1.0 / l);
+    for lambda in [0.95, 0.8, 0.6] {
+        let force = compress(&solid, &mesh, &mut asm, &mut u, &[], lambda, 0.0);
+        let expect = t(matrix, lambda) + t(fibre, lambda);
+        assert!(
+            (force / area - expect).abs() <= CLOSED_FORM_TOL * expect.abs(),
+            "λ = {lambda}: {} vs {expect}",
             force / area
         );
         let lateral = (0..mesh.nodes.len())

@@ -32,6 +32,7 @@ mod homogenize_calculix;
 mod homogenize_cards;
 mod homogenize_synthetic;
 mod homogenize_table51;
+mod homogenize_transverse;
 mod pipeline_chain;
 mod reader_fuzz;
 mod run_report;
