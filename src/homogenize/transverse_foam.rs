@@ -48,6 +48,14 @@ const SHEAR_ITERATIONS: usize = 100;
 const SHEAR_CONVERGED: f64 = 1e-13;
 
 impl TransverseFoam {
+    /// Initial moduli [E_A, E_T, G_L], GPa: along the axis 2(μ_m + Σμⱼ), across it 2μ_m, in
+    /// longitudinal shear μ_m + μ_s.
+    pub fn initial_moduli(&self) -> [f64; 3] {
+        let mu_m: f64 = self.matrix.terms.iter().map(|t| t.mu).sum();
+        let mu_f: f64 = self.fibre.terms.iter().map(|t| t.mu).sum();
+        [2.0 * (mu_m + mu_f), 2.0 * mu_m, mu_m + self.shear]
+    }
+
     /// Refuse a matrix with β ≠ 0 (the closed forms assume ν = 0).
     pub fn check(&self) -> Result<(), HyperfoamError> {
         if self.matrix.terms.iter().any(|t| t.beta != 0.0) {
@@ -130,6 +138,9 @@ impl TransverseFoam {
     }
 }
 
+/// The card's file beside `material.json`.
+pub const CARD_JSON: &str = "material_transverse.json";
+
 /// Settings of [`fit_transverse`].
 #[derive(Debug, Clone, Copy)]
 pub struct TransverseFitParams {
@@ -154,6 +165,37 @@ pub struct TransverseFit {
     pub rms_rel: [f64; 3],
     /// what the fits warned of
     pub warnings: Vec<String>,
+}
+
+impl TransverseFit {
+    /// The card as `material_transverse.json`: the model, its axis, the constants (GPa), the
+    /// initial moduli, the fit's quality and warnings, and the three curves' `sources`
+    /// (axial, lateral, shear).
+    pub fn card_json(&self, sources: &[String; 3]) -> serde_json::Value {
+        let m = &self.material;
+        let terms = |h: &Hyperfoam| {
+            h.terms
+                .iter()
+                .map(|t| serde_json::json!({"mu_GPa": t.mu, "alpha": t.alpha}))
+                .collect::<Vec<_>>()
+        };
+        let [e_a, e_t, g_l] = m.initial_moduli();
+        serde_json::json!({
+            "model": "transverse_foam",
+            "axis": "tube axis z (the FE's Z, the indentation axis)",
+            "energy": "hyperfoam(matrix, beta = 0) + sum 2mu/alpha^2 (l_a^alpha - 1 - alpha ln l_a) \
+                       + (mu_s/2)(I5 - I4^2)/I4",
+            "matrix": terms(&m.matrix),
+            "fibre": terms(&m.fibre),
+            "shear_mu_GPa": m.shear,
+            "initial_moduli_GPa": {"axial": e_a, "transverse": e_t, "longitudinal_shear": g_l},
+            "fit_rms_rel": {"axial": self.rms_rel[0], "lateral": self.rms_rel[1],
+                            "shear": self.rms_rel[2]},
+            "warnings": self.warnings,
+            "sources": {"axial": sources[0], "lateral": sources[1], "shear": sources[2]},
+            "inp": "none: no CalculiX or Abaqus keyword has this energy (docs/homogenize.md)",
+        })
+    }
 }
 
 fn fitted<'a>(

@@ -5,7 +5,8 @@
 //!
 //! Writes the table `discrete_rve_lateral.csv` or `discrete_rve_shear.csv` (every step:
 //! strain, nominal stress σ = (1/V₀) dE*/dε in GPa, the equilibrium energy E*, the tips' fall,
-//! energies, contacts, cost) and summary values `rve_*`: the stress at the largest strain, the
+//! energies, contacts, cost), its loading branch `discrete_rve_{lateral,shear}_loading.csv`
+//! (strain, stress_GPa: what `turf homogenize --lateral-curve / --shear-curve` fits) and summary values `rve_*`: the stress at the largest strain, the
 //! secant modulus of the first step, and `rve_work_error_rel`, the trapezoidal work
 //! V₀ ∫σ dε against the energy change E*(ε_max) − E*(0) along the loading branch — the stress
 //! checked against the energy it is the derivative of (path-dependent snaps between steps
@@ -103,7 +104,13 @@ pub(super) fn run(
             .sum::<usize>();
     Ok(StageOutput {
         values,
-        tables: vec![(format!("rve_{name}"), table(&records))],
+        tables: vec![
+            (format!("rve_{name}"), table(&records)),
+            (
+                format!("rve_{name}_loading"),
+                loading_table(&records[..=k.steps]),
+            ),
+        ],
         evaluations: evaluations as u64,
         files: Vec::new(),
         warnings: Vec::new(),
@@ -119,6 +126,13 @@ fn work_error(loading: &[RveRecord], volume: f64) -> f64 {
         * volume;
     let change = loading[loading.len() - 1].energy - loading[0].energy;
     (work - change).abs() / change.abs()
+}
+
+/// The loading branch as a curve `turf homogenize --lateral-curve | --shear-curve` reads.
+fn loading_table(records: &[RveRecord]) -> Table {
+    Table::new()
+        .column("strain", records.iter().map(|r| r.strain).collect())
+        .column("stress_GPa", records.iter().map(|r| r.stress).collect())
 }
 
 fn table(records: &[RveRecord]) -> Table {
