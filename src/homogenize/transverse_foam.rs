@@ -198,6 +198,45 @@ impl TransverseFit {
     }
 }
 
+/// The card of a `material_transverse.json` text ([`TransverseFit::card_json`]); `Ok(None)`
+/// when the text is another card (no `"model": "transverse_foam"`); an error naming `src` and
+/// the field when it is this card but malformed.
+pub fn read_card_json(text: &str, src: &str) -> Result<Option<TransverseFoam>, String> {
+    let v: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| format!("{src}: not JSON: {e}"))?;
+    if v.get("model").and_then(|m| m.as_str()) != Some("transverse_foam") {
+        return Ok(None);
+    }
+    let number = |x: &serde_json::Value, key: &str| {
+        x.get(key)
+            .and_then(serde_json::Value::as_f64)
+            .ok_or_else(|| format!("{src}: {key} is missing or not a number"))
+    };
+    let terms = |key: &str| -> Result<Hyperfoam, String> {
+        let list = v
+            .get(key)
+            .and_then(serde_json::Value::as_array)
+            .ok_or_else(|| format!("{src}: {key} is missing or not a list of terms"))?;
+        let terms = list
+            .iter()
+            .map(|t| {
+                Ok(HyperfoamTerm {
+                    mu: number(t, "mu_GPa")?,
+                    alpha: number(t, "alpha")?,
+                    beta: 0.0,
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(Hyperfoam { terms })
+    };
+    let card = TransverseFoam {
+        matrix: terms("matrix")?,
+        fibre: terms("fibre")?,
+        shear: number(&v, "shear_mu_GPa")?,
+    };
+    Ok(Some(card))
+}
+
 fn fitted<'a>(
     curve: &'a StressStrainCurve,
     strain_max: f64,
