@@ -24,7 +24,7 @@
 //! so μ_s and the λ_z of every point are iterated to a fixed point.
 
 use super::curve::StressStrainCurve;
-use super::fit_hyperfoam::{fit_hyperfoam, FitError, HyperfoamFit, HyperfoamFitParams};
+use super::fit_hyperfoam::{fit_hyperfoam, FitError, HyperfoamFitParams};
 use super::hyperfoam::{Hyperfoam, HyperfoamError, HyperfoamTerm};
 use crate::numerics::divided_power;
 
@@ -157,10 +157,6 @@ pub struct TransverseFitParams {
 pub struct TransverseFit {
     /// the card
     pub material: TransverseFoam,
-    /// the matrix's fit to the lateral curve
-    pub matrix_fit: HyperfoamFit,
-    /// the fibre terms' fit to the axial curve less the matrix
-    pub fibre_fit: HyperfoamFit,
     /// ‖σ_card − σ_data‖/‖σ_data‖ over the fitted points: axial, lateral, shear
     pub rms_rel: [f64; 3],
     /// what the fits warned of
@@ -199,11 +195,13 @@ impl TransverseFit {
 }
 
 /// The card of a `material_transverse.json` text ([`TransverseFit::card_json`]); `Ok(None)`
-/// when the text is another card (no `"model": "transverse_foam"`); an error naming `src` and
-/// the field when it is this card but malformed.
+/// when the text is another card (not JSON, e.g. a `.inp`, or no `"model":
+/// "transverse_foam"`: [`super::read_card`] reads those); an error naming `src` and the field
+/// when it is this card but malformed.
 pub fn read_card_json(text: &str, src: &str) -> Result<Option<TransverseFoam>, String> {
-    let v: serde_json::Value =
-        serde_json::from_str(text).map_err(|e| format!("{src}: not JSON: {e}"))?;
+    let Ok(v) = serde_json::from_str::<serde_json::Value>(text) else {
+        return Ok(None);
+    };
     if v.get("model").and_then(|m| m.as_str()) != Some("transverse_foam") {
         return Ok(None);
     }
@@ -360,9 +358,57 @@ pub fn fit_transverse(
     }
     Ok(TransverseFit {
         material: card,
-        matrix_fit,
-        fibre_fit,
         rms_rel: rms,
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn card() -> TransverseFoam {
+        let term = |mu, alpha| HyperfoamTerm {
+            mu,
+            alpha,
+            beta: 0.0,
+        };
+        TransverseFoam {
+            matrix: Hyperfoam {
+                terms: vec![term(3e-5, 0.5)],
+            },
+            fibre: Hyperfoam {
+                terms: vec![term(7e-3, 5.8), term(1e-3, 2.0)],
+            },
+            shear: 4.2e-3,
+        }
+    }
+
+    #[test]
+    fn the_card_file_reads_back_and_other_cards_are_left_to_the_isotropic_reader() {
+        let m = card();
+        let fit = TransverseFit {
+            material: m.clone(),
+            rms_rel: [0.1, 0.2, 0.03],
+            warnings: Vec::new(),
+        };
+        let sources = [
+            "a.csv".to_string(),
+            "l.csv".to_string(),
+            "s.csv".to_string(),
+        ];
+        let text = fit.card_json(&sources).to_string();
+        assert_eq!(read_card_json(&text, "t.json").unwrap(), Some(m));
+        assert_eq!(
+            read_card_json("*MATERIAL, NAME=TURF", "m.inp").unwrap(),
+            None
+        );
+        assert_eq!(
+            read_card_json("{\"format\": \"turf-material-card\"}", "m.json").unwrap(),
+            None
+        );
+        let broken = text.replace("shear_mu_GPa", "shear");
+        let e = read_card_json(&broken, "t.json").unwrap_err();
+        assert!(e.contains("t.json") && e.contains("shear_mu_GPa"), "{e}");
+    }
 }
