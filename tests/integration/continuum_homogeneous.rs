@@ -1,7 +1,7 @@
 //! Homogeneous tests of the continuum solver on a small block (r ∈ [0, 10], z ∈ [−10, 0] nm):
 //! uniaxial compression of a hyperfoam with β = 0 against the closed form
 //! T = (2μ/α)(λ^(α−1) − λ^(−1)) with no lateral strain, the transversely isotropic foam along
-//! its axis against its card's closed form (issue 19), and stress relaxation under a step
+//! its axis and radially (its matrix alone) against its card's closed forms (issue 19), and stress relaxation under a step
 //! strain against g(t) = 1 − μ̄(1 − e^(−t/τ)) (seed eq. 5.8).
 
 use turf::continuum::assembly::{Assembler, Solid};
@@ -162,6 +162,81 @@ fn uniaxial_transverse_foam_compression_along_its_axis_matches_the_closed_form()
     uniaxial_matches(material, &[0.95, 0.8, 0.6], &|l| {
         one_term(matrix.0, matrix.1, l) + one_term(fibre.0, fibre.1, l)
     });
+}
+
+/// The block compressed radially (its outer face moved to r = λW, the axis held, the base on
+/// rollers, the top free): equibiaxial in r and θ, so with β = 0 each nominal stress is its own
+/// stretch's; the transverse foam carries this with its matrix alone, P_rr = T_m(λ), and no
+/// axial strain (λ_z = 1 exactly: no term pulls along the axis).
+#[test]
+fn radial_compression_of_the_transverse_foam_is_carried_by_its_matrix_alone() {
+    use turf::continuum::material::transverse_foam::{FibreTerm, TransverseFoam};
+    let matrix = (2e-4, 4.0);
+    let material = Box::new(Viscoelastic {
+        elastic: Elastic::Transverse(TransverseFoam {
+            matrix: hyperfoam(matrix.0, matrix.1),
+            fibre: vec![FibreTerm {
+                mu: 8e-3,
+                alpha: 6.5,
+            }],
+            shear: 3e-3,
+        }),
+        prony: vec![],
+    });
+    let mesh = block();
+    let mut solid = Solid::new(&mesh, Kinematics::Finite, material).unwrap();
+    let outer: Vec<usize> = (0..mesh.nodes.len())
+        .filter(|&n| mesh.nodes[n][0] >= SIDE * (1.0 - 1e-12))
+        .collect();
+    for &n in mesh.axis.iter().chain(&outer) {
+        solid.fixed[2 * n] = true;
+    }
+    for &n in &mesh.bottom {
+        solid.fixed[2 * n + 1] = true;
+    }
+    let mut asm = Assembler::new(&solid, None).unwrap();
+    let face = 2.0 * std::f64::consts::PI * SIDE * SIDE;
+    for lambda in [0.95, 0.8, 0.6] {
+        // the homogeneous field as the start, a perturbation on the free axial dofs
+        let mut u = vec![0.0; solid.dofs()];
+        for (n, x) in mesh.nodes.iter().enumerate() {
+            u[2 * n] = (lambda - 1.0) * x[0];
+            u[2 * n + 1] = 0.01 * (x[0] / SIDE) * (x[1] + SIDE);
+        }
+        for &n in &mesh.bottom {
+            u[2 * n + 1] = 0.0;
+        }
+        let mut sys = Driven {
+            asm: &mut asm,
+            solid: &solid,
+            contact: None,
+            history: &[],
+            dt: 0.0,
+            drive: Drive::Depth(0.0),
+            force_floor: 1e-12,
+        };
+        let mut x: Vec<f64> = u.iter().copied().chain([0.0]).collect();
+        solve(&mut sys, &mut x, &NewtonParams::default()).unwrap();
+        let n = u.len();
+        u.copy_from_slice(&x[..n]);
+        let ev = asm
+            .evaluate(&solid, None, (&u, &[]), 0.0, 0.0, false)
+            .unwrap();
+        let force: f64 = outer.iter().map(|&n| ev.gradient[2 * n]).sum();
+        let t = one_term(matrix.0, matrix.1, lambda);
+        assert!(
+            (force / face - t).abs() <= CLOSED_FORM_TOL * t.abs(),
+            "λ = {lambda}: {} vs {t}",
+            force / face
+        );
+        let axial = (0..mesh.nodes.len())
+            .map(|n| u[2 * n + 1].abs())
+            .fold(0.0, f64::max);
+        assert!(
+            axial <= CLOSED_FORM_TOL * SIDE,
+            "axial displacement {axial}"
+        );
+    }
 }
 
 #[test]
