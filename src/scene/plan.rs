@@ -391,8 +391,15 @@ fn plan_discrete(scene: &Scene, stages: &mut Vec<PlannedStage>, d: &mut Derived,
                 Some(k) => stages.push(PlannedStage {
                     stage: Stage::Discrete,
                     why: format!(
-                        "[turf] + [compression]: {} tubes compressed to strain {}{}{}",
+                        "[turf] + [compression]: {} tubes {} {}{}{}",
                         t.tube_count(),
+                        match k.mode {
+                            crate::scene::compression::Mode::Axial => "compressed to strain",
+                            crate::scene::compression::Mode::Lateral =>
+                                "compressed across the tubes (the box in x) to strain",
+                            crate::scene::compression::Mode::Shear =>
+                                "sheared along the tubes (the tips in x) to shear",
+                        },
                         k.to.0,
                         if k.unload { " and unloaded" } else { "" },
                         if t.realisations > 1 {

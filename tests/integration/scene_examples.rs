@@ -167,6 +167,9 @@ fn turf_rve_is_discrete_only_in_either_mode() {
         &["compression.mode=\"shear\"".to_string()],
     )
     .unwrap_or_else(|e| panic!("{e}"));
+    assert!(shear.base.plan.stages[0]
+        .why
+        .contains("sheared along the tubes"));
     assert_eq!(
         shear.base.scene.compression.map(|k| k.mode),
         Some(turf::scene::compression::Mode::Shear)
