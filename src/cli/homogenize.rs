@@ -46,6 +46,16 @@ pub struct HomogenizeArgs {
     /// Prony terms fitted to --relaxation-curve.
     #[arg(long, default_value_t = 1)]
     pub prony_terms: usize,
+    /// The turf's lateral compression curve (CSV: strain, stress_GPa; e.g.
+    /// discrete_rve_lateral_loading.csv of `compression.mode = "lateral"`): with --shear-curve
+    /// and --curve (the axial curve), also fit the transversely isotropic card
+    /// (material_transverse.json; --terms matrix and fibre terms).
+    #[arg(long, value_name = "CSV", requires_all = ["shear_curve", "curve"])]
+    pub lateral_curve: Option<PathBuf>,
+    /// The turf's longitudinal shear curve (CSV: strain = γ, stress_GPa = τ; e.g.
+    /// discrete_rve_shear_loading.csv of `compression.mode = "shear"`).
+    #[arg(long, value_name = "CSV", requires_all = ["lateral_curve", "curve"])]
+    pub shear_curve: Option<PathBuf>,
     /// Output folder (default runs/homogenize).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -105,8 +115,13 @@ pub fn run(args: HomogenizeArgs) -> anyhow::Result<()> {
         (None, None) => None,
     };
     let out = homogenize::run(&params)?;
-    let dir = args.out.unwrap_or_else(homogenize::default_out_dir);
+    let dir = args.out.clone().unwrap_or_else(homogenize::default_out_dir);
     let summary = homogenize::write_outputs(&out, &dir)?;
+    if let (Some(axial), Some(lateral), Some(shear)) =
+        (&args.curve, &args.lateral_curve, &args.shear_curve)
+    {
+        transverse(axial, lateral, shear, &args, &dir)?;
+    }
     // on stderr, so that they show with --json too
     for w in &summary.warnings {
         eprintln!("warning: {w}");
@@ -164,5 +179,55 @@ pub fn run(args: HomogenizeArgs) -> anyhow::Result<()> {
         println!("prony: g = {:?}, k = {:?}, tau = {:?} s", p.g, p.k, p.tau);
     }
     println!("wrote {} ({})", dir.display(), summary.files.join(", "));
+    Ok(())
+}
+
+/// Fit the transversely isotropic card to the three curves, print it and write
+/// `material_transverse.json` into `dir`.
+fn transverse(
+    axial: &std::path::Path,
+    lateral: &std::path::Path,
+    shear: &std::path::Path,
+    args: &HomogenizeArgs,
+    dir: &std::path::Path,
+) -> anyhow::Result<()> {
+    use turf::homogenize::transverse_foam::{fit_transverse, TransverseFitParams};
+    let fit = fit_transverse(
+        &homogenize::read_curve(axial)?,
+        &homogenize::read_curve(lateral)?,
+        &homogenize::read_curve(shear)?,
+        &TransverseFitParams {
+            matrix_terms: args.terms,
+            fibre_terms: args.terms,
+            strain_max: args.strain_max,
+        },
+    )?;
+    for w in &fit.warnings {
+        eprintln!("warning: transverse card: {w}");
+    }
+    let sources = [axial, lateral, shear].map(|p| p.display().to_string());
+    let file = dir.join(homogenize::transverse_foam::CARD_JSON);
+    turf::report::write_json(&file, &fit.card_json(&sources))?;
+    let m = &fit.material;
+    let mpa = |v: f64| sig(v * 1e3);
+    println!("transversely isotropic card (axis = tube axis z):");
+    for (what, foam) in [("matrix", &m.matrix), ("fibre", &m.fibre)] {
+        for t in &foam.terms {
+            println!("  {what}: mu = {} MPa, alpha = {}", mpa(t.mu), sig(t.alpha));
+        }
+    }
+    let [e_a, e_t, g_l] = fit.material.initial_moduli();
+    println!(
+        "  shear: mu_s = {} MPa; initial E_A = {} MPa, E_T = {} MPa, G_L = {} MPa",
+        mpa(m.shear),
+        mpa(e_a),
+        mpa(e_t),
+        mpa(g_l)
+    );
+    println!(
+        "  fit rms (relative): axial {:.3e}, lateral {:.3e}, shear {:.3e}",
+        fit.rms_rel[0], fit.rms_rel[1], fit.rms_rel[2]
+    );
+    println!("wrote {}", file.display());
     Ok(())
 }

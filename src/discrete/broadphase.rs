@@ -220,6 +220,20 @@ impl Broadphase {
             self.info.reuses += 1;
             return false;
         }
+        self.rebuild(x, keep);
+        true
+    }
+
+    /// Change the periods to `pbox` (the box deforming, [`super::rve`]) and rebuild the list
+    /// at `x`: image pairs move by the change of period, which the Verlet test on node motion
+    /// does not see.
+    pub fn set_box(&mut self, pbox: PeriodicBox, x: &[f64], keep: &dyn Fn(&SegmentPair) -> bool) {
+        self.pbox = pbox;
+        self.rebuild(x, keep);
+    }
+
+    /// Refit the tree and collect the pairs at `x`.
+    fn rebuild(&mut self, x: &[f64], keep: &dyn Fn(&SegmentPair) -> bool) {
         for i in 0..self.segs.nodes.len() {
             let b = segment_box(&self.segs, x, i, self.skin);
             self.bvh.insert_or_update_partially(b, i as u32, 0.0);
@@ -228,7 +242,6 @@ impl Broadphase {
         self.x_ref.clear();
         self.x_ref.extend_from_slice(x);
         self.collect_pairs(x, keep);
-        true
     }
 
     fn collect_pairs(&mut self, x: &[f64], keep: &dyn Fn(&SegmentPair) -> bool) {

@@ -31,6 +31,19 @@ pub struct CompressionParams {
     pub unload: bool,
 }
 
+impl CompressionParams {
+    /// The strain in (0, 1) and at least one step.
+    pub fn check(&self) -> Result<(), DriveError> {
+        if !(self.strain_max > 0.0 && self.strain_max < 1.0) || self.steps == 0 {
+            return Err(DriveError::Invalid(format!(
+                "strain {} must be in (0, 1) and steps {} at least 1",
+                self.strain_max, self.steps
+            )));
+        }
+        Ok(())
+    }
+}
+
 /// One equilibrium of the drive.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct StepRecord {
@@ -132,12 +145,7 @@ pub fn compress(
     resume: Option<&Resume>,
     observe: &mut dyn FnMut(&StepRecord, &SavedStep),
 ) -> Result<Vec<StepRecord>, DriveError> {
-    if !(params.strain_max > 0.0 && params.strain_max < 1.0) || params.steps == 0 {
-        return Err(DriveError::Invalid(format!(
-            "strain {} must be in (0, 1) and steps {} at least 1",
-            params.strain_max, params.steps
-        )));
-    }
+    params.check()?;
     let path = strain_path(params);
     let total = path.len();
     let (h0, saved) = match resume {

@@ -3,7 +3,8 @@
 //!
 //! Entry points: [`turf::generate_turf`] (a turf from `[turf]`), [`model::TurfSystem`] (its
 //! energy and clamps), [`model::relax`] (contacts form, E = U − Γ), [`drive::compress`] (the
-//! platen drive; [`checkpoint`] saves it after every step for `--resume`),
+//! platen drive; [`checkpoint`] saves it after every step for `--resume`), [`rve::drive_rve`]
+//! (lateral compression and longitudinal shear of the periodic volume),
 //! [`analysis::CurveAnalysis`] (σ₀, tangent law, hysteresis).
 
 pub mod analysis;
@@ -18,6 +19,7 @@ pub mod platen;
 pub mod rod;
 pub mod rod_kernels;
 pub mod rod_problems;
+pub mod rve;
 pub mod solve;
 pub mod solve_fire;
 pub mod solve_newton;

@@ -61,10 +61,15 @@ struct Exclusion {
     info: Vec<SegmentInfo>,
     /// per tube: same-tube pairs closer than this in arclength are excluded, nm
     arc: Vec<f64>,
+    /// segments whose pairs among themselves are left out (empty: none)
+    inert: Vec<bool>,
 }
 
 impl Exclusion {
     fn keep(&self, p: &SegmentPair) -> bool {
+        if !self.inert.is_empty() && self.inert[p.a as usize] && self.inert[p.b as usize] {
+            return false;
+        }
         let (a, b) = (&self.info[p.a as usize], &self.info[p.b as usize]);
         if a.tube != b.tube || p.shift != [0, 0] {
             return true;
@@ -156,7 +161,11 @@ impl VdwTerm {
             .iter()
             .map(|s| s.radius + 0.5 * params.gap_cut)
             .collect();
-        let exclusion = Exclusion { info, arc };
+        let exclusion = Exclusion {
+            info,
+            arc,
+            inert: Vec::new(),
+        };
         let segs = SegmentSet { nodes, reach };
         let broadphase = Broadphase::new(segs, pbox, params.skin, x0, &|p| exclusion.keep(p));
         Ok(VdwTerm {
@@ -240,6 +249,46 @@ impl VdwTerm {
                 )
             })
             .collect()
+    }
+
+    /// The periodic box.
+    pub fn periodic_box(&self) -> PeriodicBox {
+        self.broadphase.periodic_box()
+    }
+
+    /// Deform the periodic box to `pbox` at configuration `x` (the neighbour list rebuilt).
+    pub fn set_box(&mut self, pbox: PeriodicBox, x: &[f64]) {
+        let excl = &self.exclusion;
+        self.broadphase.set_box(pbox, x, &|p| excl.keep(p));
+    }
+
+    /// Leave out every pair of two segments that both touch a node `touches` flags (the
+    /// lateral test's clamped bases, [`super::rve`]), at configuration `x` (list rebuilt).
+    pub fn exclude_pairs_among(&mut self, touches: &dyn Fn(usize) -> bool, x: &[f64]) {
+        let segs = self.broadphase.segments();
+        self.exclusion.inert = segs
+            .nodes
+            .iter()
+            .map(|&[a, b]| touches(a) || touches(b))
+            .collect();
+        let (excl, pbox) = (&self.exclusion, self.broadphase.periodic_box());
+        self.broadphase.set_box(pbox, x, &|p| excl.keep(p));
+    }
+
+    /// (∂E/∂L_x, ∂E/∂L_y) at fixed nodes `x`, nN: each pair (a, b, s) sees b's nodes shifted
+    /// by s·(L_x, L_y, 0), so a period's derivative is Σ s · (force on b's image) — the virial
+    /// of the image pairs. Call after `prepare(x)` so that the list is current.
+    pub fn box_gradient(&self, x: &[f64]) -> [f64; 2] {
+        let mut g = [0.0; 2];
+        for (p, r) in self.pairs().iter().zip(self.evaluate_pairs(x, false)) {
+            for (axis, gi) in g.iter_mut().enumerate() {
+                let s = f64::from(p.shift[axis]);
+                if s != 0.0 {
+                    *gi += s * (r.grad[6 + axis] + r.grad[9 + axis]);
+                }
+            }
+        }
+        g
     }
 
     /// Global dof of local dof k (0..12) of pair `p`.
@@ -364,6 +413,33 @@ mod tests {
                 assert!((h[i * n + j] - h[j * n + i]).abs() <= 1e-12 * hmax);
             }
         }
+    }
+
+    #[test]
+    fn the_box_gradient_matches_finite_differences_of_the_period() {
+        let (tubes, x) = tangle();
+        let pbox = |lx: f64| PeriodicBox {
+            lx: Some(lx),
+            ly: None,
+        };
+        let mut term = VdwTerm::new(&VdwParams::default(), &tubes, &x, pbox(90.0)).unwrap();
+        term.prepare(&x);
+        let g = term.box_gradient(&x);
+        assert!(
+            g[0] != 0.0 && g[1] == 0.0,
+            "the image pair must load the x period: {g:?}"
+        );
+        let mut energy = |lx: f64| {
+            term.set_box(pbox(lx), &x);
+            term.energy_gradient(&x, &mut vec![0.0; x.len()])
+        };
+        let fd = (energy(90.0 + FD_STEP) - energy(90.0 - FD_STEP)) / (2.0 * FD_STEP);
+        // central differences at 1e-6 nm, as the node gradient above
+        assert!(
+            (fd - g[0]).abs() < 1e-6 * g[0].abs(),
+            "{fd} against {}",
+            g[0]
+        );
     }
 
     #[test]

@@ -25,6 +25,7 @@ pub mod hyperfoam;
 pub mod prony;
 pub mod quality;
 pub mod tangent_law;
+pub mod transverse_foam;
 
 use crate::numerics::least_squares as lsq;
 use card::{MaterialCard, Provenance};

@@ -136,28 +136,32 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
                 .card
                 .as_ref()
                 .ok_or_else(|| failed("material.card: no path".into()))?;
-            let card = crate::homogenize::read_card(path).map_err(|e| failed(e.to_string()))?;
-            if prony.is_empty() {
-                if let Some(p) = &card.prony {
-                    prony =
-                        p.g.iter()
-                            .zip(&p.tau)
-                            .map(|(&g, &tau)| PronyTerm { g, tau })
-                            .collect();
+            if let Some(ti) = transverse_card(path)? {
+                ti
+            } else {
+                let card = crate::homogenize::read_card(path).map_err(|e| failed(e.to_string()))?;
+                if prony.is_empty() {
+                    if let Some(p) = &card.prony {
+                        prony =
+                            p.g.iter()
+                                .zip(&p.tau)
+                                .map(|(&g, &tau)| PronyTerm { g, tau })
+                                .collect();
+                    }
                 }
+                Elastic::Hyperfoam(Hyperfoam {
+                    terms: card
+                        .hyperfoam
+                        .terms
+                        .iter()
+                        .map(|t| HyperfoamTerm {
+                            mu: t.mu,
+                            alpha: t.alpha,
+                            beta: t.beta,
+                        })
+                        .collect(),
+                })
             }
-            Elastic::Hyperfoam(Hyperfoam {
-                terms: card
-                    .hyperfoam
-                    .terms
-                    .iter()
-                    .map(|t| HyperfoamTerm {
-                        mu: t.mu,
-                        alpha: t.alpha,
-                        beta: t.beta,
-                    })
-                    .collect(),
-            })
         }
     };
     let sched = s
@@ -329,6 +333,42 @@ pub fn mesh_preview(scene: &ResolvedScene) -> Option<Result<MeshPreview, String>
             nodes: m.nodes,
         });
     Some(preview)
+}
+
+/// The transversely isotropic card (`material_transverse.json`, issue 19) at `path` as the
+/// FE material; `None` for any other card.
+fn transverse_card(path: &std::path::Path) -> Result<Option<Elastic>, StageError> {
+    use crate::continuum::material::transverse_foam::{FibreTerm, TransverseFoam};
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| failed(format!("{name}: {e}")))?;
+    let Some(card) =
+        crate::homogenize::transverse_foam::read_card_json(&text, &name).map_err(failed)?
+    else {
+        return Ok(None);
+    };
+    let fe_terms = |h: &crate::homogenize::hyperfoam::Hyperfoam| -> Vec<HyperfoamTerm> {
+        h.terms
+            .iter()
+            .map(|t| HyperfoamTerm {
+                mu: t.mu,
+                alpha: t.alpha,
+                beta: t.beta,
+            })
+            .collect()
+    };
+    Ok(Some(Elastic::Transverse(TransverseFoam {
+        matrix: Hyperfoam {
+            terms: fe_terms(&card.matrix),
+        },
+        fibre: fe_terms(&card.fibre)
+            .into_iter()
+            .map(|t| FibreTerm {
+                mu: t.mu,
+                alpha: t.alpha,
+            })
+            .collect(),
+        shear: card.shear,
+    })))
 }
 
 /// `material.model = "card"` without `material.card`: the scene with the card this run's

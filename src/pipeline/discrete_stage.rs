@@ -47,7 +47,7 @@ use crate::discrete::rod::RodStiffness;
 use crate::discrete::solve_fire::FireParams;
 use crate::discrete::solve_newton::{is_local_minimum, minimize_newton, NewtonParams};
 use crate::discrete::structure::Structure;
-use crate::discrete::turf::{generate_turf, TurfParams};
+use crate::discrete::turf::{generate_turf, Turf, TurfParams};
 use crate::discrete::vdw::VdwParams;
 use crate::discrete::vdw_term::TubeLayout;
 use crate::laws::SurfaceLaw;
@@ -86,7 +86,7 @@ pub const LOADING_CSV: &str = "stress_strain_loading.csv";
 /// See [`LOADING_CSV`].
 pub(super) const UNLOADING_CSV: &str = "stress_strain_unloading.csv";
 
-fn failed(message: String) -> StageError {
+pub(super) fn failed(message: String) -> StageError {
     StageError::Failed {
         stage: Stage::Discrete,
         message,
@@ -190,6 +190,9 @@ fn turf_and_compression(
     let (Some(t), Some(k)) = (&s.turf, &s.compression) else {
         return Err(failed("needs [turf] and [compression]".into()));
     };
+    if let Some(test) = super::rve_stage::loading(k.mode) {
+        return super::rve_stage::run(s, t, k, test, ctx);
+    }
     if k.platen == Platen::Bonded {
         return Err(failed(
             "compression.platen = \"bonded\" is not built: the platen is frictionless".into(),
@@ -353,24 +356,25 @@ impl Finished {
     }
 }
 
-/// Generate, relax and compress one realisation, writing its files into its folder. A drive
-/// that fails part-way writes the steps it reached (`stress_strain.csv`) before the error.
-fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError> {
-    let (s, t, k, ctx) = (job.scene, job.turf, job.compression, job.ctx);
-    let rel = job.rel();
-    let dir = ctx.out_dir.join(&rel);
-    let mut turf = generate_turf(&turf_params(t, job.seed)).map_err(|e| failed(e.to_string()))?;
+/// Generate the turf of `seed` and build its system: tubes, contacts (with their parameters),
+/// the indenter of `[compression]`.
+pub(super) fn turf_system(
+    s: &crate::scene::Scene,
+    t: &crate::scene::turf::Turf,
+    k: &Compression,
+    seed: u64,
+) -> Result<(Turf, TurfSystem, Option<VdwParams>), StageError> {
+    let mut turf = generate_turf(&turf_params(t, seed)).map_err(|e| failed(e.to_string()))?;
     if !t.periodic {
         turf.periodic = PeriodicBox::default();
     }
     let vdw = t.vdw.as_ref().map(vdw_params).transpose()?;
-    let area = t.box_size[0].0 * t.box_size[1].0;
     let mut sys = TurfSystem::from_turf(
         &turf,
         t.tube.youngs.0,
         vdw.as_ref(),
         DEFAULT_WALL_STIFFNESS,
-        area,
+        t.box_size[0].0 * t.box_size[1].0,
     )
     .map_err(|e| failed(e.to_string()))?;
     if let (Indenter::Sphere, Some(r)) = (k.indenter, k.sphere_radius) {
@@ -382,6 +386,17 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         let contact = sphere_contact(s, k)?;
         sys.set_sphere_contact(&contact, &turf.layout(), &turf.coordinates());
     }
+    Ok((turf, sys, vdw))
+}
+
+/// Generate, relax and compress one realisation, writing its files into its folder. A drive
+/// that fails part-way writes the steps it reached (`stress_strain.csv`) before the error.
+fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError> {
+    let (s, t, k, ctx) = (job.scene, job.turf, job.compression, job.ctx);
+    let rel = job.rel();
+    let dir = ctx.out_dir.join(&rel);
+    let (turf, mut sys, vdw) = turf_system(s, t, k, job.seed)?;
+    let area = sys.area;
     let solver = static_solver(k);
     let mut x = turf.coordinates();
     let checkpoint_path = dir.join(CHECKPOINT);
@@ -977,7 +992,7 @@ fn vdw_params(v: &crate::scene::turf::Vdw) -> Result<VdwParams, StageError> {
 }
 
 /// The scene's solver with its tolerance (absolute, nN) and iteration limit.
-fn static_solver(k: &Compression) -> StaticSolver {
+pub(super) fn static_solver(k: &Compression) -> StaticSolver {
     match k.solver {
         DiscreteSolver::Fire => StaticSolver::Fire(FireParams {
             tol_abs: k.tolerance.0,

@@ -36,6 +36,7 @@ mod homogenize_stage;
 pub mod items;
 #[cfg(feature = "mpi")]
 pub mod mpi;
+mod rve_stage;
 pub mod shard;
 mod theory_stage;
 

@@ -65,6 +65,19 @@ fn is_default<T: Default + PartialEq>(v: &T) -> bool {
     *v == T::default()
 }
 
+/// Which deformation the drive imposes on the turf.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// the platen (or sphere) pressed down along the tubes
+    #[default]
+    Axial,
+    /// the periodic box shrinks in x, the top free (`crate::discrete::rve`)
+    Lateral,
+    /// the tips moved in x relative to the clamped bases, free in z (`crate::discrete::rve`)
+    Shear,
+}
+
 /// Equilibrium solver of each step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -79,6 +92,12 @@ pub enum DiscreteSolver {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Compression {
+    /// `"axial"` (the platen or sphere), `"lateral"` (the box compressed in x) or `"shear"`
+    /// (the tips moved in x, longitudinal shear); `to` is then the lateral or shear strain.
+    /// The lateral and shear tests need the flat platen's defaults (no sphere) and the loading
+    /// curve they give is not fitted by `[homogenize]`. Default `"axial"`.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub mode: Mode,
     /// `"frictionless"` or `"bonded"`. Default `"frictionless"`.
     #[serde(default = "default_platen")]
     pub platen: Platen,
@@ -160,6 +179,28 @@ impl Compression {
             (Indenter::Platen, None) => {}
         }
         self.check_sphere_contact(c, adhesion);
+        if self.mode != Mode::Axial {
+            let name = if self.mode == Mode::Lateral {
+                "lateral"
+            } else {
+                "shear"
+            };
+            if self.indenter != Indenter::Platen {
+                c.bad(
+                    "compression.mode",
+                    format!(
+                        "\"{name}\" deforms the box, not an indenter: it needs indenter = \"platen\" \
+                         (allowed modes with a sphere: \"axial\")"
+                    ),
+                );
+            }
+            if self.platen != Platen::Frictionless {
+                c.unused(
+                    "compression.platen",
+                    &format!("with mode = \"{name}\" (no platen)"),
+                );
+            }
+        }
         c.count_at_least("compression.steps", self.steps, 1);
         c.positive("compression.tolerance", self.tolerance);
         c.count_at_least("compression.max_iterations", self.max_iterations, 1);

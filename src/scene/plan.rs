@@ -391,8 +391,15 @@ fn plan_discrete(scene: &Scene, stages: &mut Vec<PlannedStage>, d: &mut Derived,
                 Some(k) => stages.push(PlannedStage {
                     stage: Stage::Discrete,
                     why: format!(
-                        "[turf] + [compression]: {} tubes compressed to strain {}{}{}",
+                        "[turf] + [compression]: {} tubes {} {}{}{}",
                         t.tube_count(),
+                        match k.mode {
+                            crate::scene::compression::Mode::Axial => "compressed to strain",
+                            crate::scene::compression::Mode::Lateral =>
+                                "compressed across the tubes (the box in x) to strain",
+                            crate::scene::compression::Mode::Shear =>
+                                "sheared along the tubes (the tips in x) to shear",
+                        },
                         k.to.0,
                         if k.unload { " and unloaded" } else { "" },
                         if t.realisations > 1 {
@@ -440,6 +447,18 @@ fn plan_homogenize(scene: &Scene, stages: &mut Vec<PlannedStage>, c: &mut Checke
                 c.bad(
                     "homogenize.curve",
                     "\"loading\" and \"unloading\" fit the discrete stage's curve: add [turf] + [compression], or use \"tangent-law\"",
+                );
+            }
+            if scene
+                .compression
+                .as_ref()
+                .is_some_and(|k| k.mode != crate::scene::compression::Mode::Axial)
+            {
+                c.bad(
+                    "compression.mode",
+                    "only \"axial\" gives the curve [homogenize] fits (the lateral and shear \
+                     tests measure the transverse response): set mode = \"axial\" or remove \
+                     [homogenize]",
                 );
             }
             if h.curve == Curve::Unloading && !scene.compression.as_ref().is_some_and(|k| k.unload)

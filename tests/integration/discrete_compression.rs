@@ -26,7 +26,7 @@ const FD_TOL: f64 = 1e-4;
 
 /// Four slightly wavy 1-µm tubes of 8 segments in a 200 nm periodic box, tilted and waved
 /// little enough that the generator's first growth draws already clear each other.
-fn small_turf() -> TurfParams {
+pub(crate) fn small_turf() -> TurfParams {
     TurfParams {
         density: 1e-4,
         box_x: 200.0,
@@ -42,7 +42,7 @@ fn small_turf() -> TurfParams {
     }
 }
 
-fn newton() -> StaticSolver {
+pub(crate) fn newton() -> StaticSolver {
     StaticSolver::Newton(NewtonParams {
         tol_abs: TOLERANCE,
         tol_rel: 0.0,
@@ -51,7 +51,7 @@ fn newton() -> StaticSolver {
     })
 }
 
-fn relaxed_system() -> (TurfSystem, Vec<f64>) {
+pub(crate) fn relaxed_system() -> (TurfSystem, Vec<f64>) {
     let turf = generate_turf(&small_turf()).unwrap();
     let mut sys = TurfSystem::from_turf(
         &turf,

@@ -680,3 +680,35 @@ fn a_halfspace_beyond_its_validated_tabor_range_is_refused_at_check() {
         &["halfspace", "Tabor μ", "validated range μ ≤ 10", "JKR"],
     );
 }
+
+#[test]
+fn the_compression_mode_is_checked() {
+    let msg = error(&TURF.replace("to = 0.3", "to = 0.3\nmode = \"twist\""), &[]);
+    assert_has(
+        &msg,
+        &[
+            "bad.toml",
+            "compression.mode",
+            "twist",
+            "`axial`",
+            "`lateral`",
+            "`shear`",
+        ],
+    );
+    let sphere = "to = 0.3\nmode = \"shear\"\nindenter = \"sphere\"\nsphere_radius = \"300 nm\"";
+    let msg = error(&TURF.replace("to = 0.3", sphere), &[]);
+    assert_has(
+        &msg,
+        &["compression.mode", "\"shear\"", "indenter = \"platen\""],
+    );
+    let homogenize = format!("{TURF}mode = \"lateral\"\n\n[homogenize]\ncurve = \"loading\"\n");
+    let msg = error(&homogenize, &[]);
+    assert_has(
+        &msg,
+        &["compression.mode", "only \"axial\"", "[homogenize]"],
+    );
+    for mode in ["lateral", "shear"] {
+        let text = TURF.replace("to = 0.3", &format!("to = 0.3\nmode = \"{mode}\""));
+        load_str(&text, Path::new("good.toml"), &[]).unwrap();
+    }
+}

@@ -29,6 +29,7 @@ fn every_scene_in_the_folder_loads_and_is_tested_here() {
         "seed_card.toml",
         "turf_compression.toml",
         "turf_indent.toml",
+        "turf_rve.toml",
         "turf_sphere.toml",
     ];
     let mut found: Vec<String> = std::fs::read_dir(scenes_dir())
@@ -156,6 +157,23 @@ fn hyperfoam_indent_runs_only_the_continuum_with_everything_on() {
 #[test]
 fn rods_cantilever_is_discrete_only() {
     assert_eq!(stages("rods_cantilever.toml"), [Stage::Discrete]);
+}
+
+#[test]
+fn turf_rve_is_discrete_only_in_either_mode() {
+    assert_eq!(stages("turf_rve.toml"), [Stage::Discrete]);
+    let shear = load(
+        &scenes_dir().join("turf_rve.toml"),
+        &["compression.mode=\"shear\"".to_string()],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(shear.base.plan.stages[0]
+        .why
+        .contains("sheared along the tubes"));
+    assert_eq!(
+        shear.base.scene.compression.map(|k| k.mode),
+        Some(turf::scene::compression::Mode::Shear)
+    );
 }
 
 #[test]

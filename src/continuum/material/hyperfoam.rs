@@ -22,6 +22,7 @@ use super::{
     add_scaled, finite, inverse, jacobian, outer, sym_product, Material, MaterialError, Response,
     Voigt,
 };
+use crate::numerics::divided_power;
 use serde::{Deserialize, Serialize};
 
 /// One term of the hyperfoam series.
@@ -100,16 +101,6 @@ fn eigen_2x2(a: f64, b: f64, d: f64) -> (f64, f64, [f64; 2], [f64; 2]) {
     };
     let (s, c) = th.sin_cos();
     (c1, c2, [c, s], [-s, c])
-}
-
-/// (c₁^q − c₂^q)/(c₁ − c₂), exact in the limit c₁ → c₂.
-fn divided_power(c1: f64, c2: f64, q: f64) -> f64 {
-    let x = (c1 / c2).ln();
-    if x == 0.0 {
-        q * c2.powf(q - 1.0)
-    } else {
-        c2.powf(q - 1.0) * (q * x).exp_m1() / x.exp_m1()
-    }
 }
 
 impl Material for Hyperfoam {

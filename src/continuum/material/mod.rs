@@ -9,12 +9,15 @@
 //! to the 4×4 matrix D_IJ = 𝕋_ijkl with I ↔ (ij), J ↔ (kl).
 //!
 //! Models: [`linear`] (St Venant–Kirchhoff; Hooke under small kinematics), [`hyperfoam`]
-//! (Storåkers/Abaqus `*HYPERFOAM`, seed eq. 5.3 corrected in PHYSICS.md), and
+//! (Storåkers/Abaqus `*HYPERFOAM`, seed eq. 5.3 corrected in PHYSICS.md), [`transverse_foam`]
+//! (the hyperfoam with fibre and longitudinal-shear terms along the Z axis: the turf's
+//! anisotropy, issue 19), and
 //! [`viscoelastic`] (Prony series on the whole stress, seed eq. 5.8, Simo 1987 recurrence).
 //! Every model checks J = √det C > 0 and returns an error otherwise.
 
 pub mod hyperfoam;
 pub mod linear;
+pub mod transverse_foam;
 pub mod viscoelastic;
 
 use serde::{Deserialize, Serialize};
@@ -95,6 +98,8 @@ pub enum Elastic {
     Linear(linear::LinearElastic),
     /// N-term hyperfoam
     Hyperfoam(hyperfoam::Hyperfoam),
+    /// transversely isotropic hyperfoam, axis Z
+    Transverse(transverse_foam::TransverseFoam),
 }
 
 impl Elastic {
@@ -103,6 +108,7 @@ impl Elastic {
         match self {
             Elastic::Linear(m) => (m.youngs, m.poisson),
             Elastic::Hyperfoam(m) => m.initial_moduli(),
+            Elastic::Transverse(m) => m.initial_moduli(),
         }
     }
 
@@ -111,6 +117,7 @@ impl Elastic {
         match self {
             Elastic::Linear(m) => m.validate(),
             Elastic::Hyperfoam(m) => m.validate(),
+            Elastic::Transverse(m) => m.validate(),
         }
     }
 }
@@ -120,6 +127,7 @@ impl Material for Elastic {
         match self {
             Elastic::Linear(m) => m.response(c, history, dt),
             Elastic::Hyperfoam(m) => m.response(c, history, dt),
+            Elastic::Transverse(m) => m.response(c, history, dt),
         }
     }
 }
