@@ -15,7 +15,7 @@
 use super::adhesion::{self, AdhesionParams};
 use super::arclength::{ArcLengthParams, Curve};
 use super::assembly::{Assembler, AssemblyStats, Solid};
-use super::contact::{Contact, Damping, SmoothPenalty, SurfaceLaw};
+use super::contact::{Contact, Damping, ProfilePoint, SmoothPenalty, SurfaceLaw};
 use super::element::Kinematics;
 use super::indenter::Indenter;
 use super::machine::{Drive, Driven, Machine};
@@ -117,8 +117,25 @@ pub struct MeshParams {
 /// it, [`EDGE_SAFE`]).
 pub const DEFAULT_EDGE_ZONE: f64 = 4.0;
 /// The mesh follows the edge once it has moved beyond the band's edges by more than this
-/// fraction of the band's half-width (so it stays ≥ 2ℓ inside the band with the default).
+/// fraction of the band's half-width (so it stays ≥ 2ℓ inside the band with the default); a
+/// band wider than needed by more than twice this is narrowed.
 pub const EDGE_SAFE: f64 = 0.5;
+/// The band spans the contact edge (gap below the law's contact gap g_c) out to the outermost
+/// gap below this many g_c: as in the half-space solver, a coarse ring at a small gap is
+/// unstable on its own (its self-compliance times the law's stiffness exceeds 1) and snaps,
+/// pinning the edge and jumping with it; beyond 3g_c the 9-3 law's stiffness is below 1/80 of
+/// its peak.
+pub const BAND_GAPS: f64 = 3.0;
+
+/// The radii the band must cover on `profile`: from the contact edge to the outermost gap
+/// below [`BAND_GAPS`] contact gaps, nm.
+fn band_span(contact: &Contact, profile: &[ProfilePoint]) -> (f64, f64) {
+    let gc = contact.law.contact_gap();
+    (
+        contact.radius_below(profile, gc),
+        contact.radius_below(profile, BAND_GAPS * gc),
+    )
+}
 /// Remeshes within one increment at most (a jump moves the edge several times as the mesh
 /// around it resolves the law; beyond this the increment is accepted on the last mesh).
 pub const MAX_REMESHES_PER_INCREMENT: usize = 3;
@@ -863,11 +880,10 @@ pub fn run_indent(
     let mut u = vec![0.0; ndof + 1];
     u[ndof] = p.start;
     let mut u_prev = u.clone();
-    let mut gaps: Vec<f64> = contact
-        .profile(&current(&solid, &u), &solid.nodes, p.start, small)
-        .iter()
-        .map(|q| q.gap)
-        .collect();
+    let profile0 = contact.profile(&current(&solid, &u), &solid.nodes, p.start, small);
+    let mut gaps: Vec<f64> = profile0.iter().map(|q| q.gap).collect();
+    // the radii the adaptive band must cover at the last converged state
+    let mut span = band_span(&contact, &profile0);
     let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
     let ev0 = asm.evaluate(
         &solid,
@@ -986,20 +1002,19 @@ pub fn run_indent(
             let solved = newton::solve(&mut sys, &mut x, &p.solver.newton)
                 .map_err(|e| e.to_string())
                 .and_then(|info| p.indenter.check_depth(x[ndof]).map(|()| info));
-            // adaptive: an edge that left the middle of the band is solved again on a mesh
-            // whose band spans it and the last converged edge (carried over from that state)
+            // adaptive: an edge that left the band is solved again on a mesh whose band spans
+            // it and the last converged one (that state carried over)
             if let (Some(z), Ok(_)) = (zone.as_mut(), &solved) {
                 let trial = contact.profile(&current(&solid, &x), &solid.nodes, x[ndof], small);
-                let edge = contact.contact_radius(&trial);
+                let (lo, hi) = band_span(&contact, &trial);
                 let reach = EDGE_SAFE * z.half_width;
-                if !(z.inner - reach..=z.outer + reach).contains(&edge)
+                if (lo < z.inner - reach || hi > z.outer + reach)
                     && remeshes < MAX_REMESHES_PER_INCREMENT
                 {
                     remeshes += 1;
-                    let last = result.rows.last().map_or(0.0, |r| r.contact_radius_nm);
                     *z = EdgeZone {
-                        inner: edge.min(last),
-                        outer: edge.max(last),
+                        inner: lo.min(span.0),
+                        outer: hi.max(span.1),
                         ..*z
                     };
                     let on = OnMesh {
@@ -1063,13 +1078,15 @@ pub fn run_indent(
                     if info.iterations <= p.solver.quick_iterations {
                         step = (step * p.solver.growth).min(base);
                     }
-                    // a band widened over a jump narrows to the edge it jumped to
+                    // a band wider than the converged state needs (after a jump, or as the
+                    // contact shrinks) narrows to it
+                    span = band_span(&contact, &profile);
                     if let Some(z) = zone.as_mut() {
-                        if z.outer - z.inner > EDGE_SAFE * z.half_width {
-                            let e = row.contact_radius_nm;
+                        let reach = 2.0 * EDGE_SAFE * z.half_width;
+                        if span.0 > z.inner + reach || span.1 < z.outer - reach {
                             *z = EdgeZone {
-                                inner: e,
-                                outer: e,
+                                inner: span.0,
+                                outer: span.1,
                                 ..*z
                             };
                             let on = OnMesh {
