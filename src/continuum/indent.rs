@@ -103,7 +103,8 @@ pub struct MeshParams {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gmsh_file: Option<std::path::PathBuf>,
     /// a fine zone that follows the contact edge ([`mesh::edge_block`]), remeshed as the edge
-    /// moves; unset: on with adhesion under the Newton method on a generated mesh
+    /// moves (with adhesion, the Newton method and a generated mesh); unset: off (validated
+    /// at μ = 1, 2 and 5 only, docs/validation-continuum.md)
     #[serde(skip_serializing_if = "Option::is_none")]
     pub adaptive: Option<bool>,
     /// half-width (and depth) of the adaptive band of smallest elements, in process zones
@@ -507,8 +508,7 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
         max_elements: m.max_elements,
     };
     let adaptive = match m.adaptive {
-        None => p.adhesion.is_some() && p.solver.method == Method::Newton && m.gmsh_file.is_none(),
-        Some(false) => false,
+        None | Some(false) => false,
         Some(true) => {
             let why = if p.adhesion.is_none() {
                 Some("without adhesion (no contact edge to follow)")
@@ -884,6 +884,8 @@ pub fn run_indent(
     let mut gaps: Vec<f64> = profile0.iter().map(|q| q.gap).collect();
     // the radii the adaptive band must cover at the last converged state
     let mut span = band_span(&contact, &profile0);
+    // the band the next increment is to be solved with, when it differs from the current one
+    let mut pending: Option<EdgeZone> = None;
     let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
     let ev0 = asm.evaluate(
         &solid,
@@ -961,6 +963,20 @@ pub fn run_indent(
         let (mut done, mut step, mut cutbacks) = (0.0f64, base, 0usize);
         let mut remeshes = 0usize;
         while done < 1.0 - 1e-12 {
+            // adaptive: move onto the mesh asked for by the last increment
+            if let Some(z) = pending.take() {
+                let on = OnMesh {
+                    solid: &mut solid,
+                    asm: &mut asm,
+                    u: &mut u,
+                    u_prev: &mut u_prev,
+                    history: &mut history,
+                };
+                gaps = remesh(p, &z, time, &mut contact, &mut result, on)?;
+                ndof = solid.dofs();
+                last_dv = 0.0;
+                zone = Some(z);
+            }
             let s = step.min(1.0 - done);
             let new_value = v0 + (target - v0) * (done + s);
             let dt = duration * s;
@@ -1004,7 +1020,7 @@ pub fn run_indent(
                 .and_then(|info| p.indenter.check_depth(x[ndof]).map(|()| info));
             // adaptive: an edge that left the band is solved again on a mesh whose band spans
             // it and the last converged one (that state carried over)
-            if let (Some(z), Ok(_)) = (zone.as_mut(), &solved) {
+            if let (Some(z), Ok(_)) = (&zone, &solved) {
                 let trial = contact.profile(&current(&solid, &x), &solid.nodes, x[ndof], small);
                 let (lo, hi) = band_span(&contact, &trial);
                 let reach = EDGE_SAFE * z.half_width;
@@ -1012,21 +1028,11 @@ pub fn run_indent(
                     && remeshes < MAX_REMESHES_PER_INCREMENT
                 {
                     remeshes += 1;
-                    *z = EdgeZone {
+                    pending = Some(EdgeZone {
                         inner: lo.min(span.0),
                         outer: hi.max(span.1),
                         ..*z
-                    };
-                    let on = OnMesh {
-                        solid: &mut solid,
-                        asm: &mut asm,
-                        u: &mut u,
-                        u_prev: &mut u_prev,
-                        history: &mut history,
-                    };
-                    gaps = remesh(p, z, time, &mut contact, &mut result, on)?;
-                    ndof = solid.dofs();
-                    last_dv = 0.0;
+                    });
                     continue;
                 }
             }
@@ -1081,24 +1087,14 @@ pub fn run_indent(
                     // a band wider than the converged state needs (after a jump, or as the
                     // contact shrinks) narrows to it
                     span = band_span(&contact, &profile);
-                    if let Some(z) = zone.as_mut() {
+                    if let Some(z) = &zone {
                         let reach = 2.0 * EDGE_SAFE * z.half_width;
                         if span.0 > z.inner + reach || span.1 < z.outer - reach {
-                            *z = EdgeZone {
+                            pending = Some(EdgeZone {
                                 inner: span.0,
                                 outer: span.1,
                                 ..*z
-                            };
-                            let on = OnMesh {
-                                solid: &mut solid,
-                                asm: &mut asm,
-                                u: &mut u,
-                                u_prev: &mut u_prev,
-                                history: &mut history,
-                            };
-                            gaps = remesh(p, z, time, &mut contact, &mut result, on)?;
-                            ndof = solid.dofs();
-                            last_dv = 0.0;
+                            });
                         }
                     }
                 }
