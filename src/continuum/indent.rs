@@ -788,16 +788,9 @@ fn remesh(
     *on.asm = Assembler::new(on.solid, Some(contact))?;
     on.asm.stats = stats;
     let n = on.solid.dofs();
-    let current: Vec<[f64; 2]> = on
-        .solid
-        .nodes
-        .iter()
-        .enumerate()
-        .map(|(k, x)| [x[0] + on.u[2 * k], x[1] + on.u[2 * k + 1]])
-        .collect();
     let small = p.kinematics == Kinematics::Small;
     let gaps = contact
-        .profile(&current, &on.solid.nodes, on.u[n], small)
+        .profile(&current(on.solid, on.u), &on.solid.nodes, on.u[n], small)
         .iter()
         .map(|q| q.gap)
         .collect();
@@ -811,6 +804,16 @@ fn remesh(
     result.mesh_report = new_mesh.report();
     result.mesh = new_mesh;
     Ok(gaps)
+}
+
+/// Current node positions X + u.
+fn current(solid: &Solid, u: &[f64]) -> Vec<[f64; 2]> {
+    solid
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
+        .collect()
 }
 
 /// The solid of a run on `mesh`: axis u_r = 0, base bonded u = 0.
@@ -867,14 +870,6 @@ pub fn run_indent(
     let force_floor = (1e-6 * resolved.reduced_modulus_GPa * a * a).max(adhesive_force);
 
     let small = p.kinematics == Kinematics::Small;
-    let current = |solid: &Solid, u: &[f64]| -> Vec<[f64; 2]> {
-        solid
-            .nodes
-            .iter()
-            .enumerate()
-            .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
-            .collect()
-    };
     let mut ndof = solid.dofs();
     // the unknowns: nodal displacements, then the indenter depth δ
     let mut u = vec![0.0; ndof + 1];
@@ -1115,14 +1110,9 @@ pub fn run_indent(
                         // the specimen's force at the last equilibrium (= the controlled
                         // load P̂ without transducer springs)
                         result.separated_nN = result.rows.last().map(|r| r.load_nN);
-                        result.snapshots.push(snapshot(
-                            si,
-                            time,
-                            &u,
-                            &solid,
-                            &history,
-                            zone.map(|_| &result.mesh),
-                        )?);
+                        let own = zone.map(|_| &result.mesh);
+                        let snap = snapshot(si, time, &u, &solid, &history, own)?;
+                        result.snapshots.push(snap);
                         break 'schedule;
                     }
                     if exhausted {
@@ -1139,14 +1129,9 @@ pub fn run_indent(
                 }
             }
         }
-        result.snapshots.push(snapshot(
-            si,
-            time,
-            &u,
-            &solid,
-            &history,
-            zone.map(|_| &result.mesh),
-        )?);
+        let own = zone.map(|_| &result.mesh);
+        let snap = snapshot(si, time, &u, &solid, &history, own)?;
+        result.snapshots.push(snap);
     }
     result.stats.assembly = asm.stats;
     result.stats.wall_s = t_start.elapsed().as_secs_f64();
