@@ -1,7 +1,10 @@
 //! FE pull-off of the Tabor-sphere problem against the half-space solver (issue 5).
 //! `cargo run --example continuum_pulloff -- <mu> [R/z0] [small|finite] [lj93|lj104]`
 //! Env `EPR` (elements per contact radius), `ZONE` (overrides the smallest element, nm),
-//! `INC` (increments per segment), `C0` (damping coefficient, GPa·s/nm), `CSV` (write the rows to this folder).
+//! `INC` (increments per segment), `C0` (damping coefficient, GPa·s/nm), `CSV` (write the rows to this folder),
+//! `CLEAR` (start and end this many z₀ clear of the surface instead of 6: the jumps of μ ≥ 5
+//! happen farther out), `VERBOSE` (print every increment), `ADAPTIVE` (0: one mesh fine over the whole contact, 1: a fine band that follows the edge;
+//! unset: the default, adaptive with adhesion), `BAND` (the band's half-width in process zones).
 
 use turf::bench::presets::tabor_sphere;
 use turf::continuum::adhesion::normalised_pull_off;
@@ -35,10 +38,35 @@ fn main() {
             d.c0 = c0;
         }
     }
+    if let Some(a) = env("ADAPTIVE") {
+        p.mesh.adaptive = Some(a != 0.0);
+    }
+    if let Some(b) = env("BAND") {
+        p.mesh.edge_zone = b;
+    }
+    if let Some(c) = env("CLEAR") {
+        // start and end the schedule c z₀ clear of the surface (z₀ = 1 nm)
+        p.start = -c;
+        if let Some(turf::continuum::Segment::Unload { to, .. }) = p.schedule.get_mut(1) {
+            *to = -c;
+        }
+    }
     if let Some(n) = env("INC") {
         p.solver.increments = n as usize;
     }
-    let r = match run_indent(&p, &mut |_| {}) {
+    let verbose = std::env::var("VERBOSE").is_ok();
+    let r = match run_indent(&p, &mut |g| {
+        if verbose {
+            eprintln!(
+                "δ {:.3} P {:.4} edge {:.3} nm, {} elements, {} iterations",
+                g.row.depth_nm,
+                g.row.load_nN,
+                g.row.contact_radius_nm,
+                g.elements,
+                g.row.iterations
+            );
+        }
+    }) {
         Ok(r) => r,
         Err(turf::continuum::FeError::Stopped(r)) => {
             eprintln!("stopped: {:?}", r.failure);
@@ -78,6 +106,17 @@ fn main() {
         r.stats.assembly.assembly_s,
         r.stats.assembly.solve_s
     );
+    if let (Some(first), Some(most)) = (
+        r.adaptation.first(),
+        r.adaptation.iter().map(|m| m.elements).max(),
+    ) {
+        println!(
+            "  adaptive: {} meshes, {} to {most} elements (first {})",
+            r.adaptation.len(),
+            r.adaptation.iter().map(|m| m.elements).min().unwrap_or(0),
+            first.elements
+        );
+    }
     for (name, jump) in [
         ("jump-in", s.events.jump_in),
         ("jump-out", s.events.jump_out),

@@ -426,6 +426,7 @@ impl Curve<'_> {
                     segment: si,
                     segments: p.schedule.len(),
                     row,
+                    elements: self.solid.elements.len(),
                 });
                 if crate::interrupt::requested() {
                     return Err(crate::interrupt::REASON.into());
@@ -445,7 +446,8 @@ impl Curve<'_> {
                     let last = &result.rows[result.rows.len() - 2..];
                     result.separated_nN = Some(last[0].load_nN.min(last[1].load_nN));
                     result.snapshots.push(
-                        snapshot(si, time, &pt.y, self.solid, &[]).map_err(|e| e.to_string())?,
+                        snapshot(si, time, &pt.y, self.solid, &[], None)
+                            .map_err(|e| e.to_string())?,
                     );
                     return Ok(());
                 }
@@ -454,7 +456,7 @@ impl Curve<'_> {
             dl = Some(length);
             result
                 .snapshots
-                .push(snapshot(si, time, &pt.y, self.solid, &[]).map_err(|e| e.to_string())?);
+                .push(snapshot(si, time, &pt.y, self.solid, &[], None).map_err(|e| e.to_string())?);
         }
         Ok(())
     }

@@ -306,7 +306,12 @@ impl Contact<'_> {
     /// interpolated linearly between the last point inside and the first outside; 0 without
     /// contact.
     pub fn contact_radius(&self, profile: &[ProfilePoint]) -> f64 {
-        let edge = self.law.contact_gap();
+        self.radius_below(profile, self.law.contact_gap())
+    }
+
+    /// The outermost radius where the gap reaches `edge` (nm), interpolated as in
+    /// [`Self::contact_radius`]; 0 if the gap is nowhere below it.
+    pub fn radius_below(&self, profile: &[ProfilePoint], edge: f64) -> f64 {
         let Some(last) = profile.iter().rposition(|p| p.gap < edge) else {
             return 0.0;
         };

@@ -15,7 +15,7 @@
 use super::adhesion::{self, AdhesionParams};
 use super::arclength::{ArcLengthParams, Curve};
 use super::assembly::{Assembler, AssemblyStats, Solid};
-use super::contact::{Contact, Damping, SmoothPenalty, SurfaceLaw};
+use super::contact::{Contact, Damping, ProfilePoint, SmoothPenalty, SurfaceLaw};
 use super::element::Kinematics;
 use super::indenter::Indenter;
 use super::machine::{Drive, Driven, Machine};
@@ -23,8 +23,9 @@ use super::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use super::material::linear::LinearElastic;
 use super::material::viscoelastic::{validate_prony, PronyTerm, Viscoelastic};
 use super::material::{Elastic, Voigt};
-use super::mesh::{self, BlockSpec, Mesh, MeshReport};
+use super::mesh::{self, BlockSpec, EdgeZone, Mesh, MeshReport};
 use super::newton::{self, NewtonParams};
+use super::transfer;
 use super::FeError;
 use crate::numerics::quadrature::gauss_legendre_unit;
 use serde::{Deserialize, Serialize};
@@ -101,7 +102,44 @@ pub struct MeshParams {
     /// a Gmsh 2.2 mesh to use instead (surface at its top, axis at r = 0)
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gmsh_file: Option<std::path::PathBuf>,
+    /// a fine zone that follows the contact edge ([`mesh::edge_block`]), remeshed as the edge
+    /// moves (with adhesion, the Newton method and a generated mesh); unset: off (validated
+    /// at μ = 1, 2 and 5 only, docs/validation-continuum.md)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adaptive: Option<bool>,
+    /// half-width (and depth) of the adaptive band of smallest elements, in process zones
+    /// (see [`DEFAULT_EDGE_ZONE`])
+    pub edge_zone: f64,
 }
+
+/// Default half-width of the adaptive band of smallest elements around the contact edge, in
+/// process zones ℓ (the half-space solver refines ±(2ℓ + 2 % of the radius) around the edge
+/// at pull-off, [`crate::halfspace`]; the band is remeshed once the edge has moved by half of
+/// it, [`EDGE_SAFE`]).
+pub const DEFAULT_EDGE_ZONE: f64 = 4.0;
+/// The mesh follows the edge once it has moved beyond the band's edges by more than this
+/// fraction of the band's half-width (so it stays ≥ 2ℓ inside the band with the default); a
+/// band wider than needed by more than twice this is narrowed.
+pub const EDGE_SAFE: f64 = 0.5;
+/// The band spans the contact edge (gap below the law's contact gap g_c) out to the outermost
+/// gap below this many g_c: as in the half-space solver, a coarse ring at a small gap is
+/// unstable on its own (its self-compliance times the law's stiffness exceeds 1) and snaps,
+/// pinning the edge and jumping with it; beyond 3g_c the 9-3 law's stiffness is below 1/80 of
+/// its peak.
+pub const BAND_GAPS: f64 = 3.0;
+
+/// The radii the band must cover on `profile`: from the contact edge to the outermost gap
+/// below [`BAND_GAPS`] contact gaps, nm.
+fn band_span(contact: &Contact, profile: &[ProfilePoint]) -> (f64, f64) {
+    let gc = contact.law.contact_gap();
+    (
+        contact.radius_below(profile, gc),
+        contact.radius_below(profile, BAND_GAPS * gc),
+    )
+}
+/// Remeshes within one increment at most (a jump moves the edge several times as the mesh
+/// around it resolves the law; beyond this the increment is accepted on the last mesh).
+pub const MAX_REMESHES_PER_INCREMENT: usize = 3;
 
 /// Default block size (width and depth) in expected contact radii. Measured on Hertz
 /// (docs/validation-continuum.md): a rigid base at depth L stiffens the load by ≈ 0.63 a/L
@@ -129,6 +167,8 @@ impl Default for MeshParams {
             grading: DEFAULT_GRADING,
             max_elements: super::mesh::DEFAULT_MAX_ELEMENTS,
             gmsh_file: None,
+            adaptive: None,
+            edge_zone: DEFAULT_EDGE_ZONE,
         }
     }
 }
@@ -364,6 +404,9 @@ pub struct Resolved {
     /// with adhesion: Tabor's μ against the tip radius
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tabor: Option<f64>,
+    /// with an adaptive mesh: the band around the contact edge at the start (edge 0)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub edge_zone: Option<EdgeZone>,
 }
 
 /// Resolve the derived sizes (and validate the parameters).
@@ -464,6 +507,43 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
         grading: m.grading,
         max_elements: m.max_elements,
     };
+    let adaptive = match m.adaptive {
+        None | Some(false) => false,
+        Some(true) => {
+            let why = if p.adhesion.is_none() {
+                Some("without adhesion (no contact edge to follow)")
+            } else if p.solver.method == Method::Riks {
+                Some("with arc-length continuation (solver.method = riks)")
+            } else if m.gmsh_file.is_some() {
+                Some("with a Gmsh mesh")
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                return Err(FeError::Params(format!(
+                    "mesh.adaptive = true is not available {why}: set it to false or remove it"
+                )));
+            }
+            true
+        }
+    };
+    let edge_zone = match (adaptive, process_zone) {
+        (true, Some(ell)) => {
+            if !(m.edge_zone > 0.0 && m.edge_zone.is_finite()) {
+                return Err(FeError::Params(format!(
+                    "mesh.edge_zone must be a positive number of process zones, got {}",
+                    m.edge_zone
+                )));
+            }
+            Some(EdgeZone {
+                inner: 0.0,
+                outer: 0.0,
+                half_width: m.edge_zone * ell,
+                surface: smallest.max(a / m.elements_per_radius),
+            })
+        }
+        _ => None,
+    };
     let c = &p.contact;
     if !(c.penalty_factor > 0.0
         && c.range_fraction > 0.0
@@ -489,6 +569,7 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
             .adhesion
             .as_ref()
             .and_then(|ad| ad.tabor(p.indenter.radius(), e_star).ok()),
+        edge_zone,
     })
 }
 
@@ -533,6 +614,25 @@ pub struct Snapshot {
     pub displacement: Vec<f64>,
     /// element Cauchy stresses [rr, zz, θθ, rz], GPa
     pub stress: Vec<Voigt>,
+    /// the mesh of the snapshot when it may differ from [`IndentResult::mesh`] (adaptive
+    /// meshing); None: that mesh
+    pub mesh: Option<Mesh>,
+}
+
+/// One mesh of an adaptive run ([`MeshParams::adaptive`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[allow(non_snake_case)] // field names carry their units, as the output columns do
+pub struct Adaptation {
+    /// converged increments before the mesh took over (it solves the next one)
+    pub increment: usize,
+    /// time, s
+    pub time_s: f64,
+    /// the band of smallest elements covers the edges from this radius, nm
+    pub inner_nm: f64,
+    /// to this one, nm
+    pub outer_nm: f64,
+    /// triangles of the mesh
+    pub elements: usize,
 }
 
 /// Work and time spent.
@@ -560,10 +660,12 @@ pub struct IndentResult {
     pub params: IndentParams,
     /// the derived sizes
     pub resolved: Resolved,
-    /// the mesh
+    /// the mesh (with adaptive meshing, the last one)
     pub mesh: Mesh,
     /// its figures
     pub mesh_report: MeshReport,
+    /// with adaptive meshing: every mesh of the run, the first at increment 0
+    pub adaptation: Vec<Adaptation>,
     /// one row per converged increment (and the initial state)
     pub rows: Vec<Row>,
     /// deformed states at the end of each segment
@@ -588,6 +690,8 @@ pub struct Progress {
     pub segments: usize,
     /// the increment just converged
     pub row: Row,
+    /// triangles of the mesh it converged on
+    pub elements: usize,
 }
 
 /// The sizes and the mesh a run of `p` would build, without solving anything (`turf check`).
@@ -597,8 +701,11 @@ pub fn mesh_preview(p: &IndentParams) -> Result<(Resolved, MeshReport), FeError>
     Ok((r, mesh.report()))
 }
 
-/// Build the mesh of a run.
+/// Build the (first) mesh of a run: the band at the axis when adaptive.
 fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
+    if let Some(z) = &r.edge_zone {
+        return Ok(mesh::edge_block(&r.block, z)?);
+    }
     match &p.mesh.gmsh_file {
         Some(path) => {
             let text = std::fs::read_to_string(path)
@@ -622,13 +729,14 @@ fn segment_span(seg: &Segment, machine: Machine, drive: f64, load: f64) -> (f64,
     }
 }
 
-/// The state at the end of segment `si` (`x` = (u, δ)).
+/// The state at the end of segment `si` (`x` = (u, δ)) on `mesh` (None: the run's only mesh).
 pub(super) fn snapshot(
     si: usize,
     time: f64,
     x: &[f64],
     solid: &Solid,
     history: &[f64],
+    mesh: Option<&Mesh>,
 ) -> Result<Snapshot, FeError> {
     let n = solid.dofs();
     Ok(Snapshot {
@@ -637,7 +745,92 @@ pub(super) fn snapshot(
         depth_nm: x[n],
         displacement: x[..n].to_vec(),
         stress: solid.stresses(&x[..n], history, 0.0)?,
+        mesh: mesh.cloned(),
     })
+}
+
+/// What lives on the mesh of a run: the solid, its assembler and the state (the displacements
+/// of the last two converged increments, δ last, and the Prony history).
+struct OnMesh<'a> {
+    solid: &'a mut Solid,
+    asm: &'a mut Assembler,
+    u: &'a mut Vec<f64>,
+    u_prev: &'a mut Vec<f64>,
+    history: &'a mut Vec<f64>,
+}
+
+/// Move the run onto the mesh of `zone` ([`mesh::edge_block`]): the state carried over by
+/// [`transfer`], the solid and the contact surface rebuilt, the mesh recorded in
+/// `result.adaptation`. Returns the gaps of the carried state on the new surface (the damping's
+/// start-of-step gaps).
+fn remesh(
+    p: &IndentParams,
+    zone: &EdgeZone,
+    time: f64,
+    contact: &mut Contact,
+    result: &mut IndentResult,
+    on: OnMesh,
+) -> Result<Vec<f64>, FeError> {
+    let new_mesh = mesh::edge_block(&result.resolved.block, zone)?;
+    let old = &result.mesh;
+    let n = on.solid.dofs();
+    let carry = |x: &[f64]| {
+        let mut y = transfer::interpolate_nodal(old, &x[..n], 2, &new_mesh);
+        y.push(x[n]);
+        y
+    };
+    *on.u = carry(on.u);
+    *on.u_prev = carry(on.u_prev);
+    *on.history = transfer::project_elementwise(old, on.history, on.solid.history_len(), &new_mesh);
+    *on.solid = new_solid(p, &new_mesh)?;
+    contact.segments = Contact::segments_of(&new_mesh);
+    let stats = on.asm.stats;
+    *on.asm = Assembler::new(on.solid, Some(contact))?;
+    on.asm.stats = stats;
+    let n = on.solid.dofs();
+    let small = p.kinematics == Kinematics::Small;
+    let gaps = contact
+        .profile(&current(on.solid, on.u), &on.solid.nodes, on.u[n], small)
+        .iter()
+        .map(|q| q.gap)
+        .collect();
+    result.adaptation.push(Adaptation {
+        increment: result.stats.increments,
+        time_s: time,
+        inner_nm: zone.inner,
+        outer_nm: zone.outer,
+        elements: new_mesh.triangles.len(),
+    });
+    result.mesh_report = new_mesh.report();
+    result.mesh = new_mesh;
+    Ok(gaps)
+}
+
+/// Current node positions X + u.
+fn current(solid: &Solid, u: &[f64]) -> Vec<[f64; 2]> {
+    solid
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
+        .collect()
+}
+
+/// The solid of a run on `mesh`: axis u_r = 0, base bonded u = 0.
+fn new_solid(p: &IndentParams, mesh: &Mesh) -> Result<Solid, FeError> {
+    let material = Viscoelastic {
+        elastic: p.material.elastic.clone(),
+        prony: p.material.prony.clone(),
+    };
+    let mut solid = Solid::new(mesh, p.kinematics, Box::new(material))?;
+    for &n in &mesh.axis {
+        solid.fixed[2 * n] = true;
+    }
+    for &n in &mesh.bottom {
+        solid.fixed[2 * n] = true;
+        solid.fixed[2 * n + 1] = true;
+    }
+    Ok(solid)
 }
 
 /// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished;
@@ -649,20 +842,10 @@ pub fn run_indent(
 ) -> Result<IndentResult, FeError> {
     let t_start = Instant::now();
     let resolved = resolve(p)?;
+    let mut zone = resolved.edge_zone;
     let mesh = build_mesh(p, &resolved)?;
     let mesh_s = t_start.elapsed().as_secs_f64();
-    let material = Viscoelastic {
-        elastic: p.material.elastic.clone(),
-        prony: p.material.prony.clone(),
-    };
-    let mut solid = Solid::new(&mesh, p.kinematics, Box::new(material))?;
-    for &n in &mesh.axis {
-        solid.fixed[2 * n] = true;
-    }
-    for &n in &mesh.bottom {
-        solid.fixed[2 * n] = true;
-        solid.fixed[2 * n + 1] = true;
-    }
+    let mut solid = new_solid(p, &mesh)?;
     let penalty = resolved.penalty;
     let law: &dyn SurfaceLaw = match &p.adhesion {
         Some(a) => &a.law,
@@ -670,7 +853,7 @@ pub fn run_indent(
     };
     let damping_law = p.adhesion.as_ref().and_then(|a| a.damping);
     // the surface (for profiles and the pattern); each step adds its damping to a copy
-    let contact = Contact {
+    let mut contact = Contact {
         segments: Contact::segments_of(&mesh),
         indenter: p.indenter,
         law,
@@ -687,24 +870,17 @@ pub fn run_indent(
     let force_floor = (1e-6 * resolved.reduced_modulus_GPa * a * a).max(adhesive_force);
 
     let small = p.kinematics == Kinematics::Small;
-    let current = |solid: &Solid, u: &[f64]| -> Vec<[f64; 2]> {
-        solid
-            .nodes
-            .iter()
-            .enumerate()
-            .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
-            .collect()
-    };
-    let ndof = solid.dofs();
+    let mut ndof = solid.dofs();
     // the unknowns: nodal displacements, then the indenter depth δ
     let mut u = vec![0.0; ndof + 1];
     u[ndof] = p.start;
     let mut u_prev = u.clone();
-    let mut gaps: Vec<f64> = contact
-        .profile(&current(&solid, &u), &solid.nodes, p.start, small)
-        .iter()
-        .map(|q| q.gap)
-        .collect();
+    let profile0 = contact.profile(&current(&solid, &u), &solid.nodes, p.start, small);
+    let mut gaps: Vec<f64> = profile0.iter().map(|q| q.gap).collect();
+    // the radii the adaptive band must cover at the last converged state
+    let mut span = band_span(&contact, &profile0);
+    // the band the next increment is to be solved with, when it differs from the current one
+    let mut pending: Option<EdgeZone> = None;
     let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
     let ev0 = asm.evaluate(
         &solid,
@@ -718,6 +894,16 @@ pub fn run_indent(
         params: p.clone(),
         resolved,
         mesh_report: mesh.report(),
+        adaptation: zone
+            .iter()
+            .map(|z| Adaptation {
+                increment: 0,
+                time_s: 0.0,
+                inner_nm: z.inner,
+                outer_nm: z.outer,
+                elements: mesh.triangles.len(),
+            })
+            .collect(),
         mesh,
         rows: vec![Row {
             time_s: 0.0,
@@ -770,7 +956,22 @@ pub fn run_indent(
         let t0 = time;
         let mut value = v0;
         let (mut done, mut step, mut cutbacks) = (0.0f64, base, 0usize);
+        let mut remeshes = 0usize;
         while done < 1.0 - 1e-12 {
+            // adaptive: move onto the mesh asked for by the last increment
+            if let Some(z) = pending.take() {
+                let on = OnMesh {
+                    solid: &mut solid,
+                    asm: &mut asm,
+                    u: &mut u,
+                    u_prev: &mut u_prev,
+                    history: &mut history,
+                };
+                gaps = remesh(p, &z, time, &mut contact, &mut result, on)?;
+                ndof = solid.dofs();
+                last_dv = 0.0;
+                zone = Some(z);
+            }
             let s = step.min(1.0 - done);
             let new_value = v0 + (target - v0) * (done + s);
             let dt = duration * s;
@@ -812,6 +1013,24 @@ pub fn run_indent(
             let solved = newton::solve(&mut sys, &mut x, &p.solver.newton)
                 .map_err(|e| e.to_string())
                 .and_then(|info| p.indenter.check_depth(x[ndof]).map(|()| info));
+            // adaptive: an edge that left the band is solved again on a mesh whose band spans
+            // it and the last converged one (that state carried over)
+            if let (Some(z), Ok(_)) = (&zone, &solved) {
+                let trial = contact.profile(&current(&solid, &x), &solid.nodes, x[ndof], small);
+                let (lo, hi) = band_span(&contact, &trial);
+                let reach = EDGE_SAFE * z.half_width;
+                if (lo < z.inner - reach || hi > z.outer + reach)
+                    && remeshes < MAX_REMESHES_PER_INCREMENT
+                {
+                    remeshes += 1;
+                    pending = Some(EdgeZone {
+                        inner: lo.min(span.0),
+                        outer: hi.max(span.1),
+                        ..*z
+                    });
+                    continue;
+                }
+            }
             match solved {
                 Ok(info) => {
                     let ev = sys.evaluation(&x, false)?;
@@ -848,7 +1067,9 @@ pub fn run_indent(
                         segment: si,
                         segments: p.schedule.len(),
                         row,
+                        elements: solid.elements.len(),
                     });
+                    remeshes = 0;
                     if crate::interrupt::requested() {
                         result.failure = Some(crate::interrupt::REASON.into());
                         result.stats.assembly = asm.stats;
@@ -857,6 +1078,19 @@ pub fn run_indent(
                     }
                     if info.iterations <= p.solver.quick_iterations {
                         step = (step * p.solver.growth).min(base);
+                    }
+                    // a band wider than the converged state needs (after a jump, or as the
+                    // contact shrinks) narrows to it
+                    span = band_span(&contact, &profile);
+                    if let Some(z) = &zone {
+                        let reach = 2.0 * EDGE_SAFE * z.half_width;
+                        if span.0 > z.inner + reach || span.1 < z.outer - reach {
+                            pending = Some(EdgeZone {
+                                inner: span.0,
+                                outer: span.1,
+                                ..*z
+                            });
+                        }
                     }
                 }
                 Err(e) => {
@@ -876,9 +1110,9 @@ pub fn run_indent(
                         // the specimen's force at the last equilibrium (= the controlled
                         // load P̂ without transducer springs)
                         result.separated_nN = result.rows.last().map(|r| r.load_nN);
-                        result
-                            .snapshots
-                            .push(snapshot(si, time, &u, &solid, &history)?);
+                        let own = zone.map(|_| &result.mesh);
+                        let snap = snapshot(si, time, &u, &solid, &history, own)?;
+                        result.snapshots.push(snap);
                         break 'schedule;
                     }
                     if exhausted {
@@ -895,9 +1129,9 @@ pub fn run_indent(
                 }
             }
         }
-        result
-            .snapshots
-            .push(snapshot(si, time, &u, &solid, &history)?);
+        let own = zone.map(|_| &result.mesh);
+        let snap = snapshot(si, time, &u, &solid, &history, own)?;
+        result.snapshots.push(snap);
     }
     result.stats.assembly = asm.stats;
     result.stats.wall_s = t_start.elapsed().as_secs_f64();

@@ -8,7 +8,9 @@
 //! with hanging nodes on its edges gets a centre node and a fan. Every triangle then has angles
 //! of at least 45° (right isosceles: no slivers), sizes change smoothly, and the element count grows only
 //! logarithmically with the block size, so the block can be 50× the contact radius (PHYSICS.md:
-//! a rigid base at depth L adds a compliance error of ≈ 0.42 a/L). [`read_msh`] reads a Gmsh
+//! a rigid base at depth L adds a compliance error of ≈ 0.42 a/L). [`edge_block`] builds the
+//! same kind of mesh fine only over a band that follows the contact edge ([`EdgeZone`], adaptive
+//! meshing; the state moves between meshes by [`super::transfer`]). [`read_msh`] reads a Gmsh
 //! ASCII mesh (format 2.2) instead.
 
 use serde::{Deserialize, Serialize};
@@ -119,8 +121,82 @@ pub const DEFAULT_MAX_ELEMENTS: usize = 1_000_000;
 
 type Cell = (u32, u64, u64); // (level, i, j)
 
-/// A graded, balanced quadtree triangulation of the block.
+/// A band of fine elements that follows the contact edge (adaptive meshing, issue 17): cells of
+/// the smallest size h₀ over r ∈ [e₁ − w, e₂ + w] down to depth w, growing as h₀ + g·d away from
+/// it, and at the surface over the contact (r ≤ e₂ + w) no larger than `surface` (growing as
+/// `surface` + g·d below it). Usually e₁ = e₂ = e, the edge; while the edge jumps the band spans
+/// the edge before and after. The process zone at the edge needs h₀; the contact's interior
+/// only needs the sphere's profile resolved, so the element count grows like log(a/h₀) instead
+/// of (a/h₀)².
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EdgeZone {
+    /// the innermost edge e₁ the band covers, nm (0 before contact: the band sits at the axis)
+    pub inner: f64,
+    /// the outermost edge e₂ ≥ e₁ the band covers, nm
+    pub outer: f64,
+    /// half-width w of the band, also its depth, nm
+    pub half_width: f64,
+    /// the largest surface element over the contact, nm (≥ h₀)
+    pub surface: f64,
+}
+
+/// A graded, balanced quadtree triangulation of the block, fine over the zone r ≤ r_f,
+/// z ≥ −d_f of `spec`.
 pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
+    let BlockSpec {
+        smallest: h0,
+        fine_radius,
+        fine_depth,
+        grading,
+        ..
+    } = *spec;
+    quadtree(spec, &|s, r0, _r1, d0| {
+        let dr = (r0 - fine_radius).max(0.0);
+        let dz = (d0 - fine_depth).max(0.0);
+        s > h0 + grading * dr.hypot(dz)
+    })
+}
+
+/// A graded, balanced quadtree triangulation of the block, fine over the band of `zone` (the
+/// fine zone sizes of `spec` are not used).
+pub fn edge_block(spec: &BlockSpec, zone: &EdgeZone) -> Result<Mesh, MeshError> {
+    let BlockSpec {
+        smallest: h0,
+        grading,
+        ..
+    } = *spec;
+    let EdgeZone {
+        inner,
+        outer,
+        half_width: w,
+        surface,
+    } = *zone;
+    if !(inner >= 0.0
+        && outer >= inner
+        && outer.is_finite()
+        && w > 0.0
+        && w.is_finite()
+        && surface >= h0)
+    {
+        return Err(MeshError::Invalid(format!(
+            "unusable edge zone {zone:?} (smallest element {h0} nm)"
+        )));
+    }
+    quadtree(spec, &|s, r0, r1, d0| {
+        let dr = (inner - w - r1).max(r0 - outer - w).max(0.0);
+        let dz = (d0 - w).max(0.0);
+        let band = s > h0 + grading * dr.hypot(dz);
+        let strip = s > surface + grading * (r0 - outer - w).max(0.0).hypot(d0);
+        band || strip
+    })
+}
+
+/// The quadtree triangulation of the block whose cells are split while `split(s, r₀, r₁, d₀)`
+/// (cell side s, radial extent [r₀, r₁], depth of its top d₀ ≥ 0) asks for it, down to h₀.
+fn quadtree(
+    spec: &BlockSpec,
+    split: &dyn Fn(f64, f64, f64, f64) -> bool,
+) -> Result<Mesh, MeshError> {
     let BlockSpec {
         width,
         depth,
@@ -171,9 +247,7 @@ pub fn graded_block(spec: &BlockSpec) -> Result<Mesh, MeshError> {
         .collect();
     while let Some((l, i, j)) = stack.pop() {
         let s = size(l);
-        let dr = (i as f64 * s - fine_radius).max(0.0);
-        let dz = (j as f64 * s - fine_depth).max(0.0);
-        if l < levels && s > h0 + grading * dr.hypot(dz) {
+        if l < levels && split(s, i as f64 * s, (i + 1) as f64 * s, j as f64 * s) {
             stack.extend(children((l, i, j)));
         } else {
             leaves.insert((l, i, j));

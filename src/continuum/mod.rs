@@ -5,7 +5,8 @@
 //! every force is its exact gradient, every tangent its exact Hessian (checked by finite
 //! differences in each module's tests).
 //!
-//! - [`mesh`]: graded quadtree triangulation of the block (or a Gmsh file), with a report.
+//! - [`mesh`]: graded quadtree triangulation of the block (or a Gmsh file), with a report;
+//!   adaptive meshes fine only at the contact edge, the state carried across by [`transfer`].
 //! - [`element`]: the axisymmetric CST, total Lagrangian (F with the hoop stretch r/R) or small
 //!   strain; the 2πr weight lives in [`element::volume_weight`].
 //! - [`material`]: the [`material::Material`] trait; linear, hyperfoam, viscoelastic (Prony).
@@ -40,6 +41,7 @@ pub mod material;
 pub mod mesh;
 pub mod newton;
 pub mod output;
+pub mod transfer;
 
 pub use indent::{run_indent, IndentParams, IndentResult, Progress, Segment};
 

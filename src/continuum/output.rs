@@ -50,6 +50,9 @@ pub struct Summary<'a> {
     pub cost: &'a super::indent::RunStats,
     /// the parameters, internal units
     pub params: &'a super::indent::IndentParams,
+    /// adaptive meshing: every mesh of the run (increment it took over at, edge, elements)
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub adaptation: &'a [super::indent::Adaptation],
 }
 
 /// What [`IndentResult::write`] wrote besides the CSV, the summary and the VTU files.
@@ -90,6 +93,7 @@ impl IndentResult {
             mesh: &self.mesh_report,
             cost: &self.stats,
             params: &self.params,
+            adaptation: &self.adaptation,
         }
     }
 
@@ -135,15 +139,18 @@ impl IndentResult {
             written.plots.extend(files);
         }
         for s in &self.snapshots {
-            self.grid(&s.displacement, &s.stress)
-                .write(&dir.join("vtk").join(format!("indent_{}.vtu", s.label)))?;
+            self.grid(
+                s.mesh.as_ref().unwrap_or(&self.mesh),
+                &s.displacement,
+                &s.stress,
+            )
+            .write(&dir.join("vtk").join(format!("indent_{}.vtu", s.label)))?;
         }
         Ok(written)
     }
 
     /// The deformed mesh as a VTK grid (points at x = X + u in the (r, z) plane).
-    fn grid(&self, u: &[f64], stress: &[[f64; 4]]) -> Grid {
-        let m = &self.mesh;
+    fn grid(&self, m: &super::mesh::Mesh, u: &[f64], stress: &[[f64; 4]]) -> Grid {
         let names = [
             "stress_rr_GPa",
             "stress_zz_GPa",

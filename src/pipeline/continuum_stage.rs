@@ -228,6 +228,7 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         mesh.smallest = m.smallest.map(|l| l.0);
         mesh.grading = m.grading.0 - 1.0;
     }
+    mesh.adaptive = s.mesh.as_ref().and_then(|m| m.adaptive);
     // mesh.max_elements, and never more than the memory ceiling holds (scene::resources)
     match &scene.plan.memory {
         Some(memory) => mesh.max_elements = memory.max_elements(s),
@@ -405,12 +406,14 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         increments += 1;
         if let Some(bar) = ctx.progress {
             bar.set_message(format!(
-                "continuum: segment {}/{}, increment {increments}, t = {:.3} s, depth {:.3} nm, load {:.4e} nN",
+                "continuum: segment {}/{}, increment {increments}, t = {:.3} s, depth {:.3} nm, load {:.4e} nN, contact edge {:.3} nm, {} elements",
                 p.segment + 1,
                 p.segments,
                 p.row.time_s,
                 p.row.depth_nm,
-                p.row.load_nN
+                p.row.load_nN,
+                p.row.contact_radius_nm,
+                p.elements
             ));
         }
     };

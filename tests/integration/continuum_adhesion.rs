@@ -5,7 +5,9 @@
 use turf::bench::presets::tabor_sphere;
 use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
+use turf::continuum::indent::resolve;
 use turf::continuum::machine::Machine;
+use turf::continuum::mesh::{edge_block, graded_block, EdgeZone};
 use turf::continuum::{run_indent, IndentParams, IndentResult, Segment};
 use turf::halfspace::{pull_off, HalfspaceParams, Problem};
 use turf::laws::LjKind;
@@ -26,6 +28,10 @@ const STIFF_TOL: f64 = 2e-3;
 const LOAD_CONTROL_TOL: f64 = 5e-3;
 /// The damping's dissipation against the largest strain energy (issue 5: "negligible", < 1 %).
 const DAMPING_SHARE: f64 = 0.01;
+/// Adaptive against fixed mesh where the fixed one fits (issue 17).
+const ADAPTIVE_TOL: f64 = 0.005;
+/// Issue 17: the adaptive mesh's element count stays within this factor from μ = 1 to 10.
+const ELEMENT_GROWTH: f64 = 2.0;
 
 fn run(p: &IndentParams) -> IndentResult {
     run_indent(p, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
@@ -174,4 +180,69 @@ fn small_strain_pull_off_tends_to_dmt_at_small_mu() {
         assert!(fe < last && fe > -2.0, "{fe} after {last}");
         last = fe;
     }
+}
+
+/// The fine band that follows the contact edge (issue 17), placed at one edge (the sizing
+/// radius: JKR's at zero load for these μ; mesh generation alone): its element count stays
+/// within 2× from μ = 1 to 10, where the mesh fine over the whole contact grows like μ³. A run
+/// also spans the band out to the gap of 3 contact gaps, which widens with μ
+/// (docs/validation-continuum.md "Adaptive mesh": 8,462 elements at μ = 1, 32,063 at the μ = 5
+/// pull-off).
+#[test]
+fn adaptive_element_count_stays_flat_in_mu() {
+    let mut counts = Vec::new();
+    for mu in [1.0, 2.0, 5.0, 10.0] {
+        let mut p = tabor_sphere(mu, 1000.0, LjKind::Lj93, Kinematics::Small);
+        p.mesh.adaptive = Some(true);
+        let r = resolve(&p).unwrap();
+        let a = r.expected_contact_radius_nm;
+        let zone = EdgeZone {
+            inner: a,
+            outer: a,
+            ..r.edge_zone.expect("adaptive")
+        };
+        let adaptive = edge_block(&r.block, &zone).unwrap().triangles.len();
+        let fixed = graded_block(&r.block).map_or(0, |m| m.triangles.len());
+        eprintln!("μ = {mu}: adaptive {adaptive} elements at the edge {a:.1} nm, fixed {fixed}");
+        counts.push(adaptive);
+    }
+    let (lo, hi) = (
+        *counts.iter().min().unwrap() as f64,
+        *counts.iter().max().unwrap() as f64,
+    );
+    assert!(hi <= ELEMENT_GROWTH * lo, "{counts:?}");
+}
+
+/// Where the mesh fine over the whole contact still fits (μ = 1), the adaptive mesh gives the
+/// same pull-off.
+#[test]
+fn adaptive_and_fixed_meshes_agree_at_mu_1() {
+    let mut p = tabor_sphere(1.0, 1000.0, LjKind::Lj93, Kinematics::Small);
+    p.mesh.adaptive = Some(true);
+    let adaptive = run(&p);
+    p.mesh.adaptive = Some(false);
+    let fixed = run(&p);
+    let (a, f) = (
+        normalised_pull_off(&adaptive).unwrap(),
+        normalised_pull_off(&fixed).unwrap(),
+    );
+    eprintln!(
+        "μ = 1: adaptive {a:.5} ({} meshes, {}–{} elements), fixed {f:.5} ({} elements)",
+        adaptive.adaptation.len(),
+        adaptive
+            .adaptation
+            .iter()
+            .map(|m| m.elements)
+            .min()
+            .unwrap(),
+        adaptive
+            .adaptation
+            .iter()
+            .map(|m| m.elements)
+            .max()
+            .unwrap(),
+        fixed.mesh_report.elements
+    );
+    assert!((a / f - 1.0).abs() < ADAPTIVE_TOL, "{a} vs {f}");
+    assert!(adaptive.adaptation.len() > 1 && fixed.adaptation.is_empty());
 }
