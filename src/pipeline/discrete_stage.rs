@@ -139,6 +139,9 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         return run_rods(r, s.output.vtk, ctx);
     }
     let (t, k) = turf_and_compression(s)?;
+    if let Some(test) = super::rve_stage::loading(k.mode) {
+        return super::rve_stage::run(s, t, k, test, ctx);
+    }
     let job = |index: usize| Job::new(s, t, k, index, ctx);
     if t.realisations == 1 {
         return run_realisation(&job(0), &AtomicUsize::new(0)).map(Finished::into_output);
@@ -171,6 +174,13 @@ pub(super) fn run_realisation_item(
 ) -> Result<bool, StageError> {
     let s = &scene.scene;
     let (t, k) = turf_and_compression(s)?;
+    if super::rve_stage::loading(k.mode).is_some() {
+        return Err(failed(
+            "compression.mode = \"lateral\" or \"shear\" with turf.realisations > 1 is not \
+             built: the lateral and shear tests run one turf (set turf.realisations = 1)"
+                .into(),
+        ));
+    }
     let ctx = StageContext {
         out_dir: dir,
         previous: &[],
@@ -190,9 +200,6 @@ fn turf_and_compression(
     let (Some(t), Some(k)) = (&s.turf, &s.compression) else {
         return Err(failed("needs [turf] and [compression]".into()));
     };
-    if let Some(test) = super::rve_stage::loading(k.mode) {
-        return super::rve_stage::run(s, t, k, test, ctx);
-    }
     if k.platen == Platen::Bonded {
         return Err(failed(
             "compression.platen = \"bonded\" is not built: the platen is frictionless".into(),
