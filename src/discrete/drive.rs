@@ -182,13 +182,7 @@ pub fn compress(
                 }
                 _ => push_below(sys, x),
             }
-            sys.solve(x, solver)
-                .map_err(|source| DriveError::Step {
-                    step,
-                    strain,
-                    source,
-                })?
-                .cost
+            solve_step(sys, x, solver, step, strain)?
         };
         let state = sys.state(x);
         let rec = StepRecord {
@@ -216,6 +210,23 @@ pub fn compress(
         }
     }
     Ok(records)
+}
+
+/// Solve the equilibrium of step `step` (at `strain`) from `x`; a failure names the step.
+pub(crate) fn solve_step(
+    sys: &mut TurfSystem,
+    x: &mut [f64],
+    solver: &StaticSolver,
+    step: usize,
+    strain: f64,
+) -> Result<Cost, DriveError> {
+    sys.solve(x, solver)
+        .map(|info| info.cost)
+        .map_err(|source| DriveError::Step {
+            step,
+            strain,
+            source,
+        })
 }
 
 /// Secant predictor along the drive: the configuration extrapolated linearly in the platen

@@ -32,7 +32,7 @@
 //! Tests check both against central differences of E*.
 
 use super::broadphase::PeriodicBox;
-use super::drive::{strain_path, CompressionParams, DriveError};
+use super::drive::{solve_step, strain_path, CompressionParams, DriveError};
 use super::energy::EnergyTerm;
 use super::model::{State, StaticSolver, TurfSystem};
 use super::solve::Cost;
@@ -189,13 +189,7 @@ fn run(
                 RveLoading::Lateral => compress_box(sys, x, r, last, strain),
                 RveLoading::Shear => shear_tips(x, r, last, strain),
             }
-            sys.solve(x, solver)
-                .map_err(|source| DriveError::Step {
-                    step,
-                    strain,
-                    source,
-                })?
-                .cost
+            solve_step(sys, x, solver, step, strain)?
         };
         last = strain;
         let state = sys.state(x);
