@@ -1,6 +1,7 @@
 //! Speed of the tube–tube van der Waals term (issue 7): point-pair evaluations per second with
-//! contacts, segment evaluations per second of the whole turf energy with and without
-//! contacts, and the broadphase update of 100 tubes × 100 segments.
+//! contacts by the point quadrature and by the tabulated kernel, segment evaluations per second
+//! of the whole turf energy with and without contacts, and the broadphase update of 100 tubes
+//! × 100 segments.
 //!
 //! `cargo bench --bench discrete_vdw`; the figures go to docs/benchmarks.md.
 
@@ -10,13 +11,13 @@ use turf::discrete::broadphase::{Broadphase, SegmentSet};
 use turf::discrete::energy::EnergyTerm;
 use turf::discrete::rod::{Rod, RodSet, RodStiffness};
 use turf::discrete::turf::{generate_turf, TurfParams};
-use turf::discrete::vdw::VdwParams;
+use turf::discrete::vdw::{VdwKernel, VdwParams};
 use turf::discrete::vdw_term::VdwTerm;
 
 /// 100 wavy tubes of 100 segments, as in `benches/scenes/turf_100x100.toml` (2 µm tubes,
 /// 20 nm segments, tilt 0.1 rad, waviness 50 nm, 1 µm periodic box) as generated — overlap-free,
 /// with contacts only where tubes grew within range (the generator refuses overlapping turfs).
-fn turf_100x100() -> (VdwTerm, Vec<f64>, turf::discrete::turf::Turf) {
+fn turf_100x100(kernel: VdwKernel) -> (VdwTerm, Vec<f64>, turf::discrete::turf::Turf) {
     let p = TurfParams {
         density: 1e-4,
         box_x: 1000.0,
@@ -32,13 +33,18 @@ fn turf_100x100() -> (VdwTerm, Vec<f64>, turf::discrete::turf::Turf) {
     };
     let turf = generate_turf(&p).unwrap();
     let x = turf.coordinates();
-    let mut term = VdwTerm::new(&VdwParams::default(), &turf.layout(), &x, turf.periodic).unwrap();
+    let params = VdwParams {
+        kernel,
+        ..VdwParams::default()
+    };
+    let mut term = VdwTerm::new(&params, &turf.layout(), &x, turf.periodic).unwrap();
     term.prepare(&x);
     (term, x, turf)
 }
 
 fn bench(c: &mut Criterion) {
-    let (term, x, turf) = turf_100x100();
+    let (term, x, turf) = turf_100x100(VdwKernel::Quadrature);
+    let (tabulated, _, _) = turf_100x100(VdwKernel::Tabulated);
     let point_pairs: usize = term
         .evaluate_pairs(&x, false)
         .iter()
@@ -61,6 +67,18 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             h.clear();
             term.hessian(black_box(&x), &mut h);
+            black_box(h.len())
+        })
+    });
+    g.bench_function("energy_gradient_turf_100x100_tabulated", |b| {
+        let mut grad = vec![0.0; x.len()];
+        b.iter(|| black_box(tabulated.energy_gradient(black_box(&x), &mut grad)))
+    });
+    g.bench_function("hessian_turf_100x100_tabulated", |b| {
+        let mut h = Vec::new();
+        b.iter(|| {
+            h.clear();
+            tabulated.hessian(black_box(&x), &mut h);
             black_box(h.len())
         })
     });

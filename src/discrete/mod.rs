@@ -28,4 +28,5 @@ pub mod sphere_stick;
 pub mod structure;
 pub mod turf;
 pub mod vdw;
+pub mod vdw_table;
 pub mod vdw_term;

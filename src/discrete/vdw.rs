@@ -57,6 +57,20 @@ pub struct VdwParams {
     /// same-tube segment pairs closer in arclength than this factor times the cutoff distance
     /// 2r + g_c are excluded (≥ 1, so that a straight tube has no self-energy)
     pub self_exclusion_factor: f64,
+    /// how the inner line integral over the partner segment is evaluated
+    pub kernel: VdwKernel,
+}
+
+/// How the double line integral of a segment pair is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VdwKernel {
+    /// material Gauss points on both segments, summed pair by pair (the reference)
+    #[default]
+    Quadrature,
+    /// Gauss points on one segment, the integral over the other from a table of
+    /// G(d, x) ([`super::vdw_table`]); needs one tube radius
+    Tabulated,
 }
 
 impl Default for VdwParams {
@@ -72,6 +86,7 @@ impl Default for VdwParams {
             gauss_order: 4,
             skin: 1.0,
             self_exclusion_factor: PI / 2.0,
+            kernel: VdwKernel::Quadrature,
         }
     }
 }
@@ -339,18 +354,18 @@ pub struct SegmentPairEnergy {
 
 /// Below this axis distance (nm) a point pair has no direction and is skipped (two axes can
 /// only get there through a solver failure; the penetration guard keeps u finite before).
-const RHO_DEGENERATE: f64 = 1e-9;
+pub(super) const RHO_DEGENERATE: f64 = 1e-9;
 
 /// One material quadrature point of a segment: parameter t ∈ [0, 1] along it and weight W
 /// (reference length × Gauss weight / panels, nm).
 #[derive(Debug, Clone, Copy)]
-struct QuadPoint {
-    t: f64,
-    weight: f64,
+pub(super) struct QuadPoint {
+    pub(super) t: f64,
+    pub(super) weight: f64,
 }
 
 /// The material quadrature points of `s`, panel by panel (`rule.len()` per panel).
-fn quadrature_points(rule: &[(f64, f64)], s: &QuadSegment) -> Vec<QuadPoint> {
+pub(super) fn quadrature_points(rule: &[(f64, f64)], s: &QuadSegment) -> Vec<QuadPoint> {
     let n = s.panels as f64;
     (0..s.panels)
         .flat_map(|p| {
@@ -372,6 +387,19 @@ struct PartnerSums {
     force: [f64; 3],
     force_t: [f64; 3],
     hess: [[f64; 9]; 3],
+}
+
+/// Whether any point of segment `a` comes closer than `rc` (nm) to segment `b`.
+pub(super) fn within(a: &QuadSegment, b: &QuadSegment, rc: f64) -> bool {
+    let (la, lb) = closest_points_segment_segment_with_locations_nD(
+        (&a.ends[0], &a.ends[1]),
+        (&b.ends[0], &b.ends[1]),
+    );
+    let [ua, va] = la.barycentric_coordinates();
+    let [ub, vb] = lb.barycentric_coordinates();
+    let closest =
+        ((a.ends[0] * ua + a.ends[1] * va) - (b.ends[0] * ub + b.ends[1] * vb)).length_squared();
+    closest < rc * rc
 }
 
 /// Energy of segment `a` and segment `b` (whose outer radii sum to `r_sum`, nm) as the sum
@@ -398,15 +426,7 @@ pub fn energy_segment_segment(
         point_pairs: 0,
         min_gap: f64::INFINITY,
     };
-    let (la, lb) = closest_points_segment_segment_with_locations_nD(
-        (&a.ends[0], &a.ends[1]),
-        (&b.ends[0], &b.ends[1]),
-    );
-    let [ua, va] = la.barycentric_coordinates();
-    let [ub, vb] = lb.barycentric_coordinates();
-    let closest =
-        ((a.ends[0] * ua + a.ends[1] * va) - (b.ends[0] * ub + b.ends[1] * vb)).length_squared();
-    if closest >= rc2 {
+    if !within(a, b, rc) {
         return out;
     }
     let db = b.ends[1] - b.ends[0];
@@ -544,7 +564,7 @@ pub fn energy_segment_segment_unculled(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     /// Finite-difference step, nm.
@@ -598,7 +618,7 @@ mod tests {
     }
 
     /// Random segment pair near contact, with a few panels each.
-    fn pair(seed: u64) -> (QuadSegment, QuadSegment) {
+    pub(in crate::discrete) fn pair(seed: u64) -> (QuadSegment, QuadSegment) {
         let mut s = seed;
         let mut rnd = || {
             s = s
@@ -624,7 +644,7 @@ mod tests {
         )
     }
 
-    fn flat(a: &QuadSegment, b: &QuadSegment) -> [f64; 12] {
+    pub(in crate::discrete) fn flat(a: &QuadSegment, b: &QuadSegment) -> [f64; 12] {
         let mut x = [0.0; 12];
         for (i, v) in [a.ends[0], a.ends[1], b.ends[0], b.ends[1]]
             .iter()
@@ -637,7 +657,11 @@ mod tests {
         x
     }
 
-    fn unflat(x: &[f64; 12], a: &QuadSegment, b: &QuadSegment) -> (QuadSegment, QuadSegment) {
+    pub(in crate::discrete) fn unflat(
+        x: &[f64; 12],
+        a: &QuadSegment,
+        b: &QuadSegment,
+    ) -> (QuadSegment, QuadSegment) {
         let v = |i: usize| Vector::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
         let mut a2 = *a;
         let mut b2 = *b;

@@ -13,8 +13,10 @@ use rayon::prelude::*;
 use super::broadphase::{Broadphase, BroadphaseInfo, PeriodicBox, SegmentPair, SegmentSet};
 use super::energy::EnergyTerm;
 use super::vdw::{
-    energy_segment_segment, LinePairPotential, QuadSegment, SegmentPairEnergy, VdwError, VdwParams,
+    energy_segment_segment, LinePairPotential, QuadSegment, SegmentPairEnergy, VdwError, VdwKernel,
+    VdwParams,
 };
+use super::vdw_table::{energy_segment_segment_tabulated, InnerTable, D_STEP, X_STEP};
 use crate::numerics::quadrature::gauss_legendre_unit;
 
 /// Where one tube's nodes sit in the coordinate vector: nodes `first_node ..
@@ -82,6 +84,8 @@ impl Exclusion {
 /// The van der Waals energy of a set of tubes.
 pub struct VdwTerm {
     pot: LinePairPotential,
+    /// the inner integral's table ([`VdwKernel::Tabulated`]), or `None` for the point quadrature
+    table: Option<InnerTable>,
     rule: Vec<(f64, f64)>,
     exclusion: Exclusion,
     broadphase: Broadphase,
@@ -166,14 +170,34 @@ impl VdwTerm {
             arc,
             inert: Vec::new(),
         };
+        let table = match params.kernel {
+            VdwKernel::Quadrature => None,
+            VdwKernel::Tabulated => Some(Self::table(&pot, tubes)?),
+        };
         let segs = SegmentSet { nodes, reach };
         let broadphase = Broadphase::new(segs, pbox, params.skin, x0, &|p| exclusion.keep(p));
         Ok(VdwTerm {
             pot,
+            table,
             rule: gauss_legendre_unit(params.gauss_order),
             exclusion,
             broadphase,
         })
+    }
+
+    /// The inner integral's table for `tubes`, which must share one outer radius (a table
+    /// holds one radius sum).
+    fn table(pot: &LinePairPotential, tubes: &[TubeLayout]) -> Result<InnerTable, VdwError> {
+        let r = tubes.first().map_or(1.0, |t| t.radius);
+        if let Some(t) = tubes.iter().find(|t| (t.radius - r).abs() > 1e-12 * r) {
+            return Err(VdwError::InvalidParameter {
+                name: "kernel",
+                value: t.radius,
+                allowed: "the tabulated kernel needs one tube radius (radius_cv = 0); \
+                          use the quadrature kernel for polydisperse turfs",
+            });
+        }
+        Ok(InnerTable::new(pot, 2.0 * r, D_STEP, X_STEP))
     }
 
     /// The calibrated line-pair potential.
@@ -238,15 +262,21 @@ impl VdwTerm {
                     }
                 };
                 let (a, b) = (p.a as usize, p.b as usize);
-                let r_sum = self.exclusion.info[a].radius + self.exclusion.info[b].radius;
-                energy_segment_segment(
-                    &self.pot,
-                    &self.rule,
-                    &quad(a, Vector::ZERO),
-                    &quad(b, pbox.offset(p.shift)),
-                    r_sum,
-                    want_hessian,
-                )
+                let (qa, qb) = (quad(a, Vector::ZERO), quad(b, pbox.offset(p.shift)));
+                match &self.table {
+                    Some(t) => energy_segment_segment_tabulated(
+                        &self.pot,
+                        t,
+                        &self.rule,
+                        &qa,
+                        &qb,
+                        want_hessian,
+                    ),
+                    None => {
+                        let r_sum = self.exclusion.info[a].radius + self.exclusion.info[b].radius;
+                        energy_segment_segment(&self.pot, &self.rule, &qa, &qb, r_sum, want_hessian)
+                    }
+                }
             })
             .collect()
     }

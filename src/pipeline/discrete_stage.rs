@@ -48,7 +48,7 @@ use crate::discrete::solve_fire::FireParams;
 use crate::discrete::solve_newton::{is_local_minimum, minimize_newton, NewtonParams};
 use crate::discrete::structure::Structure;
 use crate::discrete::turf::{generate_turf, Turf, TurfParams};
-use crate::discrete::vdw::VdwParams;
+use crate::discrete::vdw::{VdwKernel, VdwParams};
 use crate::discrete::vdw_term::TubeLayout;
 use crate::laws::SurfaceLaw;
 use crate::report::csv::Table;
@@ -992,6 +992,10 @@ fn vdw_params(v: &crate::scene::turf::Vdw) -> Result<VdwParams, StageError> {
         gap_eq: gap,
         gap_cut: cut,
         gap_switch: d.gap_switch.min(0.5 * (gap + cut)),
+        kernel: match v.kernel {
+            crate::scene::turf::VdwKernel::Quadrature => VdwKernel::Quadrature,
+            crate::scene::turf::VdwKernel::Tabulated => VdwKernel::Tabulated,
+        },
         ..d
     };
     p.validate().map_err(|e| failed(e.to_string()))?;

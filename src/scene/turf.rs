@@ -95,6 +95,29 @@ pub struct Vdw {
     /// Wall-to-wall gap beyond which contacts are ignored, nm. Default 10 × `separation`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cutoff: Option<Length>,
+    /// How a segment pair's double line integral is evaluated: `"quadrature"` (default; Gauss
+    /// points on both segments, the reference) or `"tabulated"` (Gauss points on one, the
+    /// integral over the other from a table of G(d, x), tubes of one radius; faster, and at
+    /// least as accurate, docs/discrete-contacts.md).
+    #[serde(default, skip_serializing_if = "VdwKernel::is_default")]
+    pub kernel: VdwKernel,
+}
+
+/// `[turf.vdw] kernel`: how the contact energy of a segment pair is integrated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VdwKernel {
+    /// Gauss points on both segments
+    #[default]
+    Quadrature,
+    /// Gauss points on one segment, a table for the other
+    Tabulated,
+}
+
+impl VdwKernel {
+    fn is_default(&self) -> bool {
+        *self == VdwKernel::default()
+    }
 }
 
 fn default_separation() -> Length {
