@@ -365,16 +365,18 @@ pub(super) struct QuadPoint {
 }
 
 /// The material quadrature points of `s`, panel by panel (`rule.len()` per panel).
-pub(super) fn quadrature_points(rule: &[(f64, f64)], s: &QuadSegment) -> Vec<QuadPoint> {
-    let n = s.panels as f64;
-    (0..s.panels)
-        .flat_map(|p| {
-            rule.iter().map(move |&(x, w)| QuadPoint {
-                t: (p as f64 + x) / n,
-                weight: s.length0 * w / n,
-            })
+pub(super) fn quadrature_points<'a>(
+    rule: &'a [(f64, f64)],
+    s: &QuadSegment,
+) -> impl Iterator<Item = QuadPoint> + 'a {
+    let (panels, length0) = (s.panels, s.length0);
+    let n = panels as f64;
+    (0..panels).flat_map(move |p| {
+        rule.iter().map(move |&(x, w)| QuadPoint {
+            t: (p as f64 + x) / n,
+            weight: length0 * w / n,
         })
-        .collect()
+    })
 }
 
 /// Sums over the partners j of one point i of segment a: Σ W_j f_ij and Σ W_j t_j f_ij of the
@@ -432,7 +434,7 @@ pub fn energy_segment_segment(
     let db = b.ends[1] - b.ends[0];
     let db2 = db.length_squared();
     let da = a.ends[1] - a.ends[0];
-    let points_b = quadrature_points(rule, b);
+    let points_b: Vec<QuadPoint> = quadrature_points(rule, b).collect();
     let per_panel = rule.len();
     let nb = b.panels as f64;
     for qa in quadrature_points(rule, a) {
@@ -547,7 +549,7 @@ pub fn energy_segment_segment_unculled(
     b: &QuadSegment,
     r_sum: f64,
 ) -> (f64, f64) {
-    let points_b = quadrature_points(rule, b);
+    let points_b: Vec<QuadPoint> = quadrature_points(rule, b).collect();
     let (mut e, mut magnitude) = (0.0, 0.0);
     for qa in quadrature_points(rule, a) {
         let p = a.ends[0].lerp(a.ends[1], qa.t);

@@ -185,19 +185,27 @@ impl InnerTable {
             let i = (((d - self.d_min) / self.hd) as usize).min(self.nd - 2);
             (i, hermite((d - self.d_min) / self.hd - i as f64, self.hd))
         };
+        // tensor-product evaluation: along x on the two rows (for G and for G_d), then along d
+        let kx_max = if second { 3 } else { 2 };
+        let mut along_x = [[[0.0; 3]; 2]; 2]; // [row a][G or G_d][x-derivative order]
+        for (a, row) in along_x.iter_mut().enumerate() {
+            for b in 0..2 {
+                let [g, gd, gx, gdx] = self.data[(i + a) * self.nx + j + b];
+                for k in 0..kx_max {
+                    let (xv, xd) = (xw[k][2 * b], xw[k][2 * b + 1]);
+                    row[0][k] += xv * g + xd * gx;
+                    row[1][k] += xv * gd + xd * gdx;
+                }
+            }
+        }
         let orders: &[(usize, usize)] = if second {
             &[(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)]
         } else {
             &[(0, 0), (1, 0), (0, 1)]
         };
-        for a in 0..2 {
-            for b in 0..2 {
-                let [g, gd, gx, gdx] = self.data[(i + a) * self.nx + j + b];
-                for (o, &(kd, kx)) in out.iter_mut().zip(orders) {
-                    let (dv, dd) = (dw[kd][2 * a], dw[kd][2 * a + 1]);
-                    let (xv, xd) = (xw[kx][2 * b], xw[kx][2 * b + 1]);
-                    *o += dv * xv * g + dd * xv * gd + dv * xd * gx + dd * xd * gdx;
-                }
+        for (o, &(kd, kx)) in out.iter_mut().zip(orders) {
+            for (a, row) in along_x.iter().enumerate() {
+                *o += dw[kd][2 * a] * row[0][kx] + dw[kd][2 * a + 1] * row[1][kx];
             }
         }
         // odd in x: G, G_d, G_dd and G_xx change sign with x, G_x and G_dx do not
@@ -343,13 +351,17 @@ pub fn energy_segment_segment_tabulated(
         let f_dl = a_dl / len - a_d / l2;
         let f_sl = a_sl / len - a_s / l2;
         let f_ll = a_ll / len - 2.0 * a_l / l2 + 2.0 * aa / (l2 * len);
+        // Σ_pq F_pq ∇q_p ∇q_qᵀ = Σ_p ∇q_p v_pᵀ with v_p = Σ_q F_pq ∇q_q
         let mut h = Blocks::default();
         let grads = [&gd, &gs, &gl];
         let fqq = [[f_dd, f_ds, f_dl], [f_ds, f_ss, f_sl], [f_dl, f_sl, f_ll]];
-        for (p, gp) in grads.iter().enumerate() {
-            for (q, gq) in grads.iter().enumerate() {
-                h.add_outer(fqq[p][q], gp, gq);
-            }
+        for (gp, fp) in grads.iter().zip(&fqq) {
+            let v: [[f64; 3]; 2] = std::array::from_fn(|half| {
+                std::array::from_fn(|k| {
+                    fp[0] * gd[half][k] + fp[1] * gs[half][k] + fp[2] * gl[half][k]
+                })
+            });
+            h.add_outer(1.0, gp, &v);
         }
         // F_d ∇²d: m = ê × n spans the plane normal to both
         let m = [
