@@ -21,8 +21,12 @@
 //! against finite differences. The point quadrature of [`super::vdw::energy_segment_segment`]
 //! stays the reference this kernel is checked against.
 //!
-//! Below the table's floor (gap −0.5 nm, tubes interpenetrating — a state only a failed solve
-//! reaches) G is continued linearly in d, so the repulsion stays finite and points outward.
+//! The table's rows are fine (`D_STEP`) from a gap of −0.5 nm to the cutoff and coarse (0.02 nm)
+//! down to a gap of −2 nm, where the law's guard already makes the overlap cost far more than any
+//! contact gains; below that floor (a state only a failed solve reaches) G is continued linearly
+//! in d, so the repulsion stays finite and points outward. A floor at −0.5 nm was too shallow:
+//! the linear continuation's weaker barrier let the relaxation of the 100 × 100 turf step tubes
+//! into each other (smallest gap −0.25 nm after relaxing).
 
 use rayon::prelude::*;
 
@@ -41,7 +45,11 @@ pub const D_STEP: f64 = 0.002;
 /// and at 0.05 nm the error of G stays below 2e-7 (at 0.1 nm, 5e-7 at a gap of 0.21 nm).
 pub const X_STEP: f64 = 0.05;
 /// Gap (nm) of the table's lowest row; below it G is continued linearly in d.
-const GAP_FLOOR: f64 = -0.5;
+const GAP_FLOOR: f64 = -2.0;
+/// Gap (nm) where the fine rows start.
+const GAP_FINE: f64 = -0.5;
+/// Row spacing between the floor and the fine rows, nm.
+const COARSE_STEP: f64 = 0.02;
 /// Gauss–Legendre points per table cell for the integrals G and G_d along x.
 const CELL_ORDER: usize = 8;
 
@@ -54,7 +62,13 @@ pub struct InnerTable {
     rc: f64,
     /// axis distance of the first row, nm
     d_min: f64,
-    /// row spacing, nm
+    /// axis distance of the first fine row, nm
+    d_fine: f64,
+    /// coarse row spacing (rows 0 ..= `nc`), nm
+    hc: f64,
+    /// number of coarse cells
+    nc: usize,
+    /// fine row spacing (rows `nc` .. `nd`), nm
     hd: f64,
     /// number of rows (the last at d = rc, where G ≡ 0)
     nd: usize,
@@ -103,14 +117,25 @@ impl InnerTable {
     pub fn new(pot: &LinePairPotential, r_sum: f64, hd: f64, hx: f64) -> Self {
         let rc = pot.cutoff(r_sum);
         let d_min = (r_sum + GAP_FLOOR).max(0.5 * r_sum);
-        let nd = ((rc - d_min) / hd).ceil() as usize + 1;
-        let hd = (rc - d_min) / (nd - 1) as f64;
+        let d_fine = (r_sum + GAP_FINE).max(0.75 * r_sum);
+        let nc = ((d_fine - d_min) / COARSE_STEP).ceil() as usize;
+        let hc = (d_fine - d_min) / nc as f64;
+        let n_fine = ((rc - d_fine) / hd).ceil() as usize + 1;
+        let hd = (rc - d_fine) / (n_fine - 1) as f64;
+        let nd = nc + n_fine;
+        let row_d = |k: usize| {
+            if k < nc {
+                d_min + k as f64 * hc
+            } else {
+                d_fine + (k - nc) as f64 * hd
+            }
+        };
         let x_end = (rc * rc - d_min * d_min).sqrt();
         let nx = (x_end / hx).ceil() as usize + 1;
         let hx = x_end / (nx - 1) as f64;
         let rule = gauss_legendre_unit(CELL_ORDER);
         let row = |i: usize| -> Vec<[f64; 4]> {
-            let d = d_min + i as f64 * hd;
+            let d = row_d(i);
             // (u, u′ d/ρ) at axial coordinate x
             let integrand = |x: f64| {
                 let rho = (d * d + x * x).sqrt();
@@ -138,6 +163,9 @@ impl InnerTable {
             r_sum,
             rc,
             d_min,
+            d_fine,
+            hc,
+            nc,
             hd,
             nd,
             hx,
@@ -181,9 +209,13 @@ impl InnerTable {
             w[0][1] = d - self.d_min;
             w[1][1] = 1.0;
             (0, w)
+        } else if d < self.d_fine {
+            let i = (((d - self.d_min) / self.hc) as usize).min(self.nc - 1);
+            (i, hermite((d - self.d_min) / self.hc - i as f64, self.hc))
         } else {
-            let i = (((d - self.d_min) / self.hd) as usize).min(self.nd - 2);
-            (i, hermite((d - self.d_min) / self.hd - i as f64, self.hd))
+            let k = (((d - self.d_fine) / self.hd) as usize).min(self.nd - self.nc - 2);
+            let u = (d - self.d_fine) / self.hd - k as f64;
+            (self.nc + k, hermite(u, self.hd))
         };
         // tensor-product evaluation: along x on the two rows (for G and for G_d), then along d
         let kx_max = if second { 3 } else { 2 };
@@ -558,16 +590,20 @@ mod tests {
     }
 
     /// Gradient against central differences of the energy, Hessian against central differences
-    /// of the gradient, on crossing pairs, a pair pressed through the table's floor (the linear
-    /// continuation), and a pair overlapping end to end (points beyond b's ends).
+    /// of the gradient, on crossing pairs, pairs pressed into the coarse rows and through the
+    /// table's floor (the linear continuation), and a pair overlapping end to end (points beyond
+    /// b's ends).
     #[test]
     fn gradient_and_hessian_match_finite_differences() {
         let (pot, table, rule) = setup();
         let mut cases: Vec<(QuadSegment, QuadSegment)> = (0..6).map(pair).collect();
-        let (a, mut b) = pair(7);
-        let sink = Vector::new(0.0, -1.2, 0.0);
-        b.ends = [b.ends[0] + sink, b.ends[1] + sink];
-        cases.push((a, b));
+        // pressed into the coarse rows, and below the floor
+        for depth in [1.2, 2.8] {
+            let (a, mut b) = pair(7);
+            let sink = Vector::new(0.0, -depth, 0.0);
+            b.ends = [b.ends[0] + sink, b.ends[1] + sink];
+            cases.push((a, b));
+        }
         let along = |x0: f64, y: f64| QuadSegment {
             ends: [
                 Vector::new(x0, y, 0.1),
