@@ -185,6 +185,11 @@ fn bad_enum_value_lists_the_allowed_values() {
         &msg,
         &["material.model", "`linear`", "`hyperfoam`", "`card`"],
     );
+    let msg = error(
+        &format!("{TURF}\n[turf.vdw]\ngamma_line = \"1 nN\"\nkernel = \"fast\"\n"),
+        &[],
+    );
+    assert_has(&msg, &["turf.vdw.kernel", "fast", "`quadrature`", "`tabulated`"]);
 }
 
 #[test]
