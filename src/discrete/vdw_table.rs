@@ -295,6 +295,104 @@ struct PointSums {
     ee: M3,
 }
 
+/// A point p of segment a seen from segment b's axis: d, s, L and the directions the
+/// derivatives need, with the gradients of q = (d, s, L) in (r, e) = (p − b₀, b₁ − b₀).
+struct AxisPoint {
+    d: f64,
+    s: f64,
+    len: f64,
+    /// unit vector from b's axis line to p
+    n: [f64; 3],
+    /// b's unit axis ê
+    eh: [f64; 3],
+    /// the part of r normal to the axis, d n
+    rp: [f64; 3],
+    /// ∇d, ∇s, ∇L as (r part, e part)
+    grads: [[[f64; 3]; 2]; 3],
+}
+
+impl AxisPoint {
+    fn new(d: f64, s: f64, len: f64, eh: [f64; 3], rp: [f64; 3]) -> Self {
+        let n = rp.map(|v| v / d);
+        AxisPoint {
+            d,
+            s,
+            len,
+            n,
+            eh,
+            rp,
+            grads: [
+                [n, n.map(|v| -s * v / len)],
+                [eh, rp.map(|v| v / len)],
+                [[0.0; 3], eh],
+            ],
+        }
+    }
+}
+
+/// J/L₀ = F(d, s, L) = A/L with A = G(d, L − s) + G(d, s), from the look-ups `far` at
+/// x = L − s and `near` at x = s: F and its first derivatives in q = (d, s, L).
+fn first_derivatives(far: &Derivs, near: &Derivs, len: f64) -> [f64; 4] {
+    let aa = far[0] + near[0];
+    let (a_d, a_s, a_l) = (far[1] + near[1], near[2] - far[2], far[2]);
+    [aa / len, a_d / len, a_s / len, a_l / len - aa / (len * len)]
+}
+
+/// The Hessian of F in (r, e) at `p`: Σ_pq F_pq ∇q_p ∇q_qᵀ + F_d ∇²d + F_s ∇²s + F_L ∇²L.
+fn point_hessian(p: &AxisPoint, far: &Derivs, near: &Derivs, f: &[f64; 4]) -> Blocks {
+    let (d, s, len) = (p.d, p.s, p.len);
+    let l2 = len * len;
+    let aa = far[0] + near[0];
+    let (a_d, a_s, a_l) = (far[1] + near[1], near[2] - far[2], far[2]);
+    let (a_dd, a_ds, a_dl) = (far[3] + near[3], near[4] - far[4], far[4]);
+    let (a_ss, a_sl, a_ll) = (far[5] + near[5], -far[5], far[5]);
+    let f_dl = a_dl / len - a_d / l2;
+    let f_sl = a_sl / len - a_s / l2;
+    let f_ll = a_ll / len - 2.0 * a_l / l2 + 2.0 * aa / (l2 * len);
+    let fqq = [
+        [a_dd / len, a_ds / len, f_dl],
+        [a_ds / len, a_ss / len, f_sl],
+        [f_dl, f_sl, f_ll],
+    ];
+    // Σ_pq F_pq ∇q_p ∇q_qᵀ = Σ_p ∇q_p v_pᵀ with v_p = Σ_q F_pq ∇q_q
+    let mut h = Blocks::default();
+    let g = &p.grads;
+    for (gp, fp) in g.iter().zip(&fqq) {
+        let v: [[f64; 3]; 2] = std::array::from_fn(|half| {
+            std::array::from_fn(|k| {
+                fp[0] * g[0][half][k] + fp[1] * g[1][half][k] + fp[2] * g[2][half][k]
+            })
+        });
+        h.add_outer(1.0, gp, &v);
+    }
+    let [_, f_d, f_s, f_l] = *f;
+    let (eh, n) = (p.eh, p.n);
+    // F_d ∇²d: m = ê × n spans the plane normal to both
+    let m = [
+        eh[1] * n[2] - eh[2] * n[1],
+        eh[2] * n[0] - eh[0] * n[2],
+        eh[0] * n[1] - eh[1] * n[0],
+    ];
+    let (mm, nn) = (outer(m, m), outer(n, n));
+    let (en, ne) = (outer(eh, n), outer(n, eh));
+    add(&mut h.rr, f_d / d, &mm);
+    add(&mut h.re, -f_d / len, &en);
+    add(&mut h.re, -f_d * s / (len * d), &mm);
+    add(&mut h.ee, -f_d * d / l2, &nn);
+    add(&mut h.ee, f_d * s / l2, &en);
+    add(&mut h.ee, f_d * s / l2, &ne);
+    add(&mut h.ee, f_d * s * s / (l2 * d), &mm);
+    // F_s ∇²s and F_L ∇²L, with P = I − ê êᵀ
+    let proj: M3 = std::array::from_fn(|i| {
+        std::array::from_fn(|j| f64::from(u8::from(i == j)) - eh[i] * eh[j])
+    });
+    add(&mut h.re, f_s / len, &proj);
+    add(&mut h.ee, -f_s / l2, &outer(eh, p.rp));
+    add(&mut h.ee, -f_s / l2, &outer(p.rp, eh));
+    add(&mut h.ee, -f_s * s / l2 + f_l / len, &proj);
+    h
+}
+
 /// Energy, gradient and (optionally) Hessian of segments `a` and `b` with the inner integral
 /// over `b` from `table` and the outer sum over `a`'s material Gauss points (`rule`), in the
 /// local dof order of [`SegmentPairEnergy`]. `point_pairs` counts the points of a within the
@@ -325,10 +423,6 @@ pub fn energy_segment_segment_tabulated(
         return energy_segment_segment(pot, rule, a, b, r_sum, want_hessian);
     }
     let eh = e / len;
-    let ehv = [eh.x, eh.y, eh.z];
-    let proj: M3 = std::array::from_fn(|i| {
-        std::array::from_fn(|j| f64::from(u8::from(i == j)) - ehv[i] * ehv[j])
-    });
     let da = a.ends[1] - a.ends[0];
     let mut sums = PointSums::default();
     for qa in quadrature_points(rule, a) {
@@ -352,80 +446,39 @@ pub fn energy_segment_segment_tabulated(
         out.min_gap = out.min_gap.min((d2 + off * off).sqrt() - r_sum);
         let far = table.eval(d, len - s, want_hessian);
         let near = table.eval(d, s, want_hessian);
-        // J/L₀ = A/L with A = G(d, L − s) + G(d, s); derivatives in q = (d, s, L)
-        let aa = far[0] + near[0];
-        let (a_d, a_s, a_l) = (far[1] + near[1], near[2] - far[2], far[2]);
-        let f = aa / len;
-        let (f_d, f_s, f_l) = (a_d / len, a_s / len, a_l / len - aa / (len * len));
+        let f = first_derivatives(&far, &near, len);
+        let p = AxisPoint::new(d, s, len, [eh.x, eh.y, eh.z], [rp.x, rp.y, rp.z]);
         let w = qa.weight * b.length0;
-        sums.energy += w * f;
-        let n = [rp.x / d, rp.y / d, rp.z / d];
-        let rpv = [rp.x, rp.y, rp.z];
-        // gradients of d, s, L in (r, e)
-        let gd = [n, n.map(|v| -s * v / len)];
-        let gs = [ehv, rpv.map(|v| v / len)];
-        let gl = [[0.0; 3], ehv];
+        sums.energy += w * f[0];
+        let [gd, gs, gl] = &p.grads;
+        let g_r: [f64; 3] = std::array::from_fn(|k| w * (f[1] * gd[0][k] + f[2] * gs[0][k]));
+        let g_e: [f64; 3] =
+            std::array::from_fn(|k| w * (f[1] * gd[1][k] + f[2] * gs[1][k] + f[3] * gl[1][k]));
         for k in 0..3 {
-            let g_r = w * (f_d * gd[0][k] + f_s * gs[0][k]);
-            sums.g_r[k] += g_r;
-            sums.g_r_t[k] += qa.t * g_r;
-            sums.g_e[k] += w * (f_d * gd[1][k] + f_s * gs[1][k] + f_l * gl[1][k]);
+            sums.g_r[k] += g_r[k];
+            sums.g_r_t[k] += qa.t * g_r[k];
+            sums.g_e[k] += g_e[k];
         }
-        if !want_hessian {
-            continue;
+        if want_hessian {
+            sums.add_hessian(w, qa.t, &point_hessian(&p, &far, &near, &f));
         }
-        let (a_dd, a_ds, a_dl) = (far[3] + near[3], near[4] - far[4], far[4]);
-        let (a_ss, a_sl, a_ll) = (far[5] + near[5], -far[5], far[5]);
-        let l2 = len * len;
-        let f_dd = a_dd / len;
-        let f_ds = a_ds / len;
-        let f_ss = a_ss / len;
-        let f_dl = a_dl / len - a_d / l2;
-        let f_sl = a_sl / len - a_s / l2;
-        let f_ll = a_ll / len - 2.0 * a_l / l2 + 2.0 * aa / (l2 * len);
-        // Σ_pq F_pq ∇q_p ∇q_qᵀ = Σ_p ∇q_p v_pᵀ with v_p = Σ_q F_pq ∇q_q
-        let mut h = Blocks::default();
-        let grads = [&gd, &gs, &gl];
-        let fqq = [[f_dd, f_ds, f_dl], [f_ds, f_ss, f_sl], [f_dl, f_sl, f_ll]];
-        for (gp, fp) in grads.iter().zip(&fqq) {
-            let v: [[f64; 3]; 2] = std::array::from_fn(|half| {
-                std::array::from_fn(|k| {
-                    fp[0] * gd[half][k] + fp[1] * gs[half][k] + fp[2] * gl[half][k]
-                })
-            });
-            h.add_outer(1.0, gp, &v);
-        }
-        // F_d ∇²d: m = ê × n spans the plane normal to both
-        let m = [
-            ehv[1] * n[2] - ehv[2] * n[1],
-            ehv[2] * n[0] - ehv[0] * n[2],
-            ehv[0] * n[1] - ehv[1] * n[0],
-        ];
-        let (mm, nn) = (outer(m, m), outer(n, n));
-        let (en, ne) = (outer(ehv, n), outer(n, ehv));
-        add(&mut h.rr, f_d / d, &mm);
-        add(&mut h.re, -f_d / len, &en);
-        add(&mut h.re, -f_d * s / (len * d), &mm);
-        add(&mut h.ee, -f_d * d / l2, &nn);
-        add(&mut h.ee, f_d * s / l2, &en);
-        add(&mut h.ee, f_d * s / l2, &ne);
-        add(&mut h.ee, f_d * s * s / (l2 * d), &mm);
-        // F_s ∇²s and F_L ∇²L
-        add(&mut h.re, f_s / len, &proj);
-        add(&mut h.ee, -f_s / l2, &outer(ehv, rpv));
-        add(&mut h.ee, -f_s / l2, &outer(rpv, ehv));
-        add(&mut h.ee, -f_s * s / l2 + f_l / len, &proj);
-        let tk = [1.0, qa.t, qa.t * qa.t];
-        for (mk, t) in sums.rr.iter_mut().zip(tk) {
-            add(mk, w * t, &h.rr);
-        }
-        for (mk, t) in sums.re.iter_mut().zip(tk) {
-            add(mk, w * t, &h.re);
-        }
-        add(&mut sums.ee, w, &h.ee);
     }
     scatter(&mut out, &sums);
     out
+}
+
+impl PointSums {
+    /// Add a point's Hessian blocks, weight `w`, at parameter `t` along a, to the t-moments.
+    fn add_hessian(&mut self, w: f64, t: f64, h: &Blocks) {
+        let tk = [1.0, t, t * t];
+        for (mk, t) in self.rr.iter_mut().zip(tk) {
+            add(mk, w * t, &h.rr);
+        }
+        for (mk, t) in self.re.iter_mut().zip(tk) {
+            add(mk, w * t, &h.re);
+        }
+        add(&mut self.ee, w, &h.ee);
+    }
 }
 
 /// Map the (r, e) sums to the nodes (a₀, a₁, b₀, b₁): r = (α + β t)·nodes, e = γ·nodes with

@@ -189,7 +189,10 @@ fn bad_enum_value_lists_the_allowed_values() {
         &format!("{TURF}\n[turf.vdw]\ngamma_line = \"1 nN\"\nkernel = \"fast\"\n"),
         &[],
     );
-    assert_has(&msg, &["turf.vdw.kernel", "fast", "`quadrature`", "`tabulated`"]);
+    assert_has(
+        &msg,
+        &["turf.vdw.kernel", "fast", "`quadrature`", "`tabulated`"],
+    );
 }
 
 #[test]
