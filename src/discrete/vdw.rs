@@ -352,6 +352,19 @@ pub struct SegmentPairEnergy {
     pub min_gap: f64,
 }
 
+impl SegmentPairEnergy {
+    /// No energy, no force, a zero Hessian if asked for, no point pair in range.
+    pub(super) fn none(want_hessian: bool) -> Self {
+        SegmentPairEnergy {
+            energy: 0.0,
+            grad: [0.0; 12],
+            hessian: want_hessian.then(|| Box::new([0.0; 144])),
+            point_pairs: 0,
+            min_gap: f64::INFINITY,
+        }
+    }
+}
+
 /// Below this axis distance (nm) a point pair has no direction and is skipped (two axes can
 /// only get there through a solver failure; the penetration guard keeps u finite before).
 pub(super) const RHO_DEGENERATE: f64 = 1e-9;
@@ -421,13 +434,7 @@ pub fn energy_segment_segment(
 ) -> SegmentPairEnergy {
     let rc = pot.cutoff(r_sum);
     let rc2 = rc * rc;
-    let mut out = SegmentPairEnergy {
-        energy: 0.0,
-        grad: [0.0; 12],
-        hessian: want_hessian.then(|| Box::new([0.0; 144])),
-        point_pairs: 0,
-        min_gap: f64::INFINITY,
-    };
+    let mut out = SegmentPairEnergy::none(want_hessian);
     if !within(a, b, rc) {
         return out;
     }

@@ -406,13 +406,7 @@ pub fn energy_segment_segment_tabulated(
     want_hessian: bool,
 ) -> SegmentPairEnergy {
     let (r_sum, rc) = (table.r_sum, table.rc);
-    let mut out = SegmentPairEnergy {
-        energy: 0.0,
-        grad: [0.0; 12],
-        hessian: want_hessian.then(|| Box::new([0.0; 144])),
-        point_pairs: 0,
-        min_gap: f64::INFINITY,
-    };
+    let mut out = SegmentPairEnergy::none(want_hessian);
     if !within(a, b, rc) {
         return out;
     }
