@@ -310,6 +310,17 @@ impl<'a> Job<'a> {
         Ok(super::cache::canonical_json(&v))
     }
 
+    /// What the realisation's checkpoint is valid for: its own seed and the sections without
+    /// the ensemble's size (a checkpoint does not depend on how many realisations run beside it).
+    fn fingerprint(&self) -> Result<String, StageError> {
+        let single = crate::scene::turf::Turf {
+            realisations: 1,
+            ..self.turf.clone()
+        };
+        serde_json::to_string(&(self.seed, &single, self.compression))
+            .map_err(|e| failed(format!("scene fingerprint: {e}")))
+    }
+
     /// The realisation's folder relative to the output folder.
     fn rel(&self) -> PathBuf {
         ensemble::realisation_dir(self.index)
@@ -399,37 +410,76 @@ pub(super) fn turf_system(
 /// Generate, relax and compress one realisation, writing its files into its folder. A drive
 /// that fails part-way writes the steps it reached (`stress_strain.csv`) before the error.
 fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError> {
-    let (s, t, k, ctx) = (job.scene, job.turf, job.compression, job.ctx);
-    let rel = job.rel();
-    let dir = ctx.out_dir.join(&rel);
+    let (s, t, k) = (job.scene, job.turf, job.compression);
     let (turf, mut sys, vdw) = turf_system(s, t, k, job.seed)?;
-    let area = sys.area;
     let solver = static_solver(k);
     let mut x = turf.coordinates();
-    let checkpoint_path = dir.join(CHECKPOINT);
-    // the realisation's own seed and the sections without the ensemble's size: a
-    // realisation's checkpoint does not depend on how many others run beside it
-    let single = crate::scene::turf::Turf {
-        realisations: 1,
-        ..t.clone()
-    };
-    let fingerprint = serde_json::to_string(&(job.seed, &single, k))
-        .map_err(|e| failed(format!("scene fingerprint: {e}")))?;
-    let saved = if ctx.resume {
-        Checkpoint::load(&checkpoint_path, &fingerprint, x.len())
+    let fingerprint = job.fingerprint()?;
+    let (relaxed, resume) = relaxed_start(job, &mut sys, &mut x, &solver, &fingerprint, done)?;
+    // the relaxed structure, before the compression moves `x`
+    let structure = vdw.as_ref().and_then(|v| sys.structure(&x, v.gap_switch));
+    let start = (&relaxed, resume.as_ref(), fingerprint.as_str());
+    let run = Compressed::drive(job, &turf, &mut sys, &mut x, &solver, start, done)?;
+    let analysis = analyse(&run.records);
+    let written = write_realisation(job, &sys, structure.as_ref(), vdw.as_ref(), &run, &analysis)?;
+    let mut values: BTreeMap<String, f64> = written.structure_values.into_iter().collect();
+    realisation_values(
+        &mut values,
+        &turf,
+        &sys,
+        &relaxed,
+        resume.as_ref(),
+        &run.records,
+    );
+    analysis_values(&mut values, &analysis, &run.records[k.steps]);
+    let evaluations = relaxed.cost.gradient_evaluations
+        + run
+            .records
+            .iter()
+            .map(|r| r.cost.gradient_evaluations)
+            .sum::<usize>();
+    Ok(Finished {
+        index: job.index,
+        seed: job.seed,
+        path: run
+            .records
+            .iter()
+            .map(|r| (r.strain, r.loading, r.stress))
+            .collect(),
+        values,
+        tangent: written.tangent,
+        files: written.files,
+        evaluations: evaluations as u64,
+        warnings: written.warnings,
+    })
+}
+
+/// The relaxed turf and, with `--resume`, the steps its checkpoint kept: relaxed here, or read
+/// back from the realisation's checkpoint (the states recomputed from its configurations).
+/// Refuses a relaxed turf whose tubes interpenetrate.
+fn relaxed_start(
+    job: &Job,
+    sys: &mut TurfSystem,
+    x: &mut [f64],
+    solver: &StaticSolver,
+    fingerprint: &str,
+    done: &AtomicUsize,
+) -> Result<(RelaxReport, Option<Resume>), StageError> {
+    let checkpoint_path = job.ctx.out_dir.join(job.rel()).join(CHECKPOINT);
+    let saved = if job.ctx.resume {
+        Checkpoint::load(&checkpoint_path, fingerprint, x.len())
             .map_err(|e| failed(e.to_string()))?
     } else {
         None
     };
-
     let (relaxed, resume) = match &saved {
         Some(c) => {
             // the relaxed configuration is step 0's; its states are recomputed from it
             sys.model.platen = None;
-            let initial = sys.state(&x);
+            let initial = sys.state(x);
             let steps = c.saved_steps();
             x.copy_from_slice(&steps[0].x);
-            let state = sys.state(&x);
+            let state = sys.state(x);
             let resume = Resume {
                 start_height: c.start_height(),
                 steps,
@@ -445,7 +495,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         }
         None => {
             job.say(done, "relaxing the turf".into());
-            let r = relax(&mut sys, &mut x, &solver)
+            let r = relax(sys, x, solver)
                 .map_err(|e| failed(format!("relaxation of the generated turf: {e}")))?;
             let cost = SavedRelaxation {
                 iterations: r.info.cost.iterations,
@@ -469,90 +519,130 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
             relaxed.state.min_gap, relaxed.state.contacts, relaxed.state.energy.vdw
         )));
     }
-    // the relaxed structure, before the compression moves `x`
-    let structure = vdw.as_ref().and_then(|v| sys.structure(&x, v.gap_switch));
-    let params = CompressionParams {
-        strain_max: k.to.0,
-        steps: k.steps,
-        unload: k.unload,
-    };
-    let vtk_steps = [0, k.steps, if k.unload { 2 * k.steps } else { k.steps }];
-    let mut vtk_files: Vec<PathBuf> = Vec::new();
-    let mut side_error = None;
-    let total = if k.unload { 2 * k.steps } else { k.steps };
-    let start_height = resume
-        .as_ref()
-        .map_or(sys.start_height(&x), |r| r.start_height);
-    let mut reached: Vec<SavedStep> = Vec::new();
-    let mut partial: Vec<StepRecord> = Vec::new();
-    let mut observe = |rec: &StepRecord, saved: &SavedStep| {
-        let xs = &saved.x;
-        job.say(
-            done,
-            format!(
-                "step {}/{total}, strain {:.3}, stress {:.3e} GPa",
-                rec.step, rec.strain, rec.stress
-            ),
-        );
-        if side_error.is_some() {
-            return;
-        }
-        partial.push(*rec);
-        reached.push(saved.clone());
-        let c = Checkpoint::new(&fingerprint, relaxed.cost.clone(), start_height, &reached);
-        if let Err(e) = c.save(&checkpoint_path) {
-            side_error = Some(failed(e.to_string()));
-        } else if s.output.vtk && vtk_steps.contains(&rec.step) {
-            let vtu = rel.join(format!("vtk/discrete_step_{:03}.vtu", rec.step));
-            match polylines(&turf.layout(), xs).write(&ctx.out_dir.join(&vtu)) {
-                Ok(()) => vtk_files.push(vtu),
-                Err(e) => side_error = Some(report(e)),
-            }
-        }
-    };
-    let drive = compress(
-        &mut sys,
-        &mut x,
-        &params,
-        &solver,
-        resume.as_ref(),
-        &mut observe,
-    );
-    let records = match drive {
-        Ok(r) => r,
-        Err(e) => {
-            // keep what the drive reached (step 0 at least, unless a side file failed first)
-            let file = rel.join("stress_strain.csv");
-            let written = !partial.is_empty()
-                && steps_table(&partial)
-                    .write(&ctx.out_dir.join(&file))
-                    .is_ok();
-            let kept = if written {
-                format!(
-                    " (what it reached, steps 0 to {}, is in {} and {})",
-                    partial.len() - 1,
-                    file.display(),
-                    rel.join(CHECKPOINT).display()
-                )
-            } else {
-                String::new()
-            };
-            let message = format!("{e}{kept}");
-            return Err(match e {
-                DriveError::Interrupted { .. } => StageError::Interrupted {
-                    stage: Stage::Discrete,
-                    message: format!("{message}; `turf run --resume` continues from it"),
-                },
-                _ => failed(message),
-            });
-        }
-    };
-    if let Some(e) = side_error {
-        return Err(e);
-    }
-    let analysis = analyse(&records);
+    Ok((relaxed, resume))
+}
 
-    let mut files = vtk_files;
+/// A realisation's compression: every step's record and the VTK frames written on the way.
+struct Compressed {
+    records: Vec<StepRecord>,
+    vtk_files: Vec<PathBuf>,
+}
+
+impl Compressed {
+    /// Compress from the relaxed turf, saving the checkpoint after every step and the VTK
+    /// frames of the first, peak and last steps. A drive that fails part-way writes the steps
+    /// it reached (`stress_strain.csv`) and names them in the error.
+    /// `start`: the relaxed turf, the steps to resume from and the checkpoint's fingerprint.
+    fn drive(
+        job: &Job,
+        turf: &Turf,
+        sys: &mut TurfSystem,
+        x: &mut [f64],
+        solver: &StaticSolver,
+        (relaxed, resume, fingerprint): (&RelaxReport, Option<&Resume>, &str),
+        done: &AtomicUsize,
+    ) -> Result<Self, StageError> {
+        let (k, ctx) = (job.compression, job.ctx);
+        let rel = job.rel();
+        let checkpoint_path = ctx.out_dir.join(&rel).join(CHECKPOINT);
+        let params = CompressionParams {
+            strain_max: k.to.0,
+            steps: k.steps,
+            unload: k.unload,
+        };
+        let vtk_steps = [0, k.steps, if k.unload { 2 * k.steps } else { k.steps }];
+        let mut vtk_files: Vec<PathBuf> = Vec::new();
+        let mut side_error = None;
+        let total = if k.unload { 2 * k.steps } else { k.steps };
+        let start_height = resume.map_or(sys.start_height(x), |r| r.start_height);
+        let mut reached: Vec<SavedStep> = Vec::new();
+        let mut partial: Vec<StepRecord> = Vec::new();
+        let mut observe = |rec: &StepRecord, saved: &SavedStep| {
+            job.say(
+                done,
+                format!(
+                    "step {}/{total}, strain {:.3}, stress {:.3e} GPa",
+                    rec.step, rec.strain, rec.stress
+                ),
+            );
+            if side_error.is_some() {
+                return;
+            }
+            partial.push(*rec);
+            reached.push(saved.clone());
+            let c = Checkpoint::new(fingerprint, relaxed.cost.clone(), start_height, &reached);
+            if let Err(e) = c.save(&checkpoint_path) {
+                side_error = Some(failed(e.to_string()));
+            } else if job.scene.output.vtk && vtk_steps.contains(&rec.step) {
+                let vtu = rel.join(format!("vtk/discrete_step_{:03}.vtu", rec.step));
+                match polylines(&turf.layout(), &saved.x).write(&ctx.out_dir.join(&vtu)) {
+                    Ok(()) => vtk_files.push(vtu),
+                    Err(e) => side_error = Some(report(e)),
+                }
+            }
+        };
+        let drive = compress(sys, x, &params, solver, resume, &mut observe);
+        let records = match drive {
+            Ok(r) => r,
+            Err(e) => return Err(Self::failed_part_way(job, &partial, e)),
+        };
+        if let Some(e) = side_error {
+            return Err(e);
+        }
+        Ok(Compressed { records, vtk_files })
+    }
+
+    /// The error of a drive that failed after `partial`, with those steps written (step 0 at
+    /// least, unless a side file failed first).
+    fn failed_part_way(job: &Job, partial: &[StepRecord], e: DriveError) -> StageError {
+        let rel = job.rel();
+        let file = rel.join("stress_strain.csv");
+        let written = !partial.is_empty()
+            && steps_table(partial)
+                .write(&job.ctx.out_dir.join(&file))
+                .is_ok();
+        let kept = if written {
+            format!(
+                " (what it reached, steps 0 to {}, is in {} and {})",
+                partial.len() - 1,
+                file.display(),
+                rel.join(CHECKPOINT).display()
+            )
+        } else {
+            String::new()
+        };
+        let message = format!("{e}{kept}");
+        match e {
+            DriveError::Interrupted { .. } => StageError::Interrupted {
+                stage: Stage::Discrete,
+                message: format!("{message}; `turf run --resume` continues from it"),
+            },
+            _ => failed(message),
+        }
+    }
+}
+
+/// What [`write_realisation`] wrote and found.
+struct Written {
+    files: Vec<PathBuf>,
+    tangent: Table,
+    structure_values: Vec<(String, f64)>,
+    warnings: Vec<String>,
+}
+
+/// Write a realisation's tables (steps, load–depth under a sphere, branches, tangent), its
+/// structure with the micromechanics, its analysis and (realisation 0) its plots.
+fn write_realisation(
+    job: &Job,
+    sys: &TurfSystem,
+    structure: Option<&Structure>,
+    vdw: Option<&VdwParams>,
+    run: &Compressed,
+    analysis: &CurveAnalysis,
+) -> Result<Written, StageError> {
+    let (k, ctx, rel) = (job.compression, job.ctx, job.rel());
+    let records = &run.records;
+    let mut files = run.vtk_files.clone();
     files.push(rel.join(CHECKPOINT));
     let mut write = |table: &Table, name: &str| -> Result<(), StageError> {
         let file = rel.join(name);
@@ -560,23 +650,9 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         files.push(file);
         Ok(())
     };
-    write(&steps_table(&records), "stress_strain.csv")?;
+    write(&steps_table(records), "stress_strain.csv")?;
     if k.indenter == Indenter::Sphere {
-        let h0 = records[0].height;
-        let load_depth = Table::new()
-            .column("depth_nm", records.iter().map(|r| h0 - r.height).collect())
-            .column(
-                "load_nN",
-                records.iter().map(|r| r.state.platen_force).collect(),
-            )
-            .column(
-                "loading",
-                records
-                    .iter()
-                    .map(|r| f64::from(u8::from(r.loading)))
-                    .collect(),
-            );
-        write(&load_depth, LOAD_DEPTH_CSV)?;
+        write(&load_depth_table(records), LOAD_DEPTH_CSV)?;
     }
     write(&branch_table(&analysis.loading), LOADING_CSV)?;
     if let Some(u) = &analysis.unloading {
@@ -588,16 +664,16 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         write(&tangent, "discrete_tangent.csv")?;
     }
     let mut structure_values = Vec::new();
-    if let (Some(st), Some(v)) = (&structure, &vdw) {
+    if let (Some(st), Some(v)) = (structure, vdw) {
         let bending = sys.model.rods.rods()[0].stiffness().bending;
         let json;
-        (structure_values, json) = micromechanics(st, bending, v.gamma_l, &analysis);
+        (structure_values, json) = micromechanics(st, bending, v.gamma_l, analysis);
         let structure_file = rel.join("discrete_structure.json");
         write_json(&ctx.out_dir.join(&structure_file), &json).map_err(report)?;
         files.push(structure_file);
     }
     let analysis_file = rel.join("discrete_analysis.json");
-    write_json(&ctx.out_dir.join(&analysis_file), &analysis_json(&analysis)).map_err(report)?;
+    write_json(&ctx.out_dir.join(&analysis_file), &analysis_json(analysis)).map_err(report)?;
     files.push(analysis_file);
     // the other realisations' curves are in the ensemble's band plot
     // realisation 0's fit speaks for a single run (an ensemble adds its mean curve's)
@@ -605,22 +681,55 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         0 => analysis.fit_warnings(),
         _ => Vec::new(),
     };
-    if s.output.plots && job.index == 0 {
+    if job.scene.output.plots && job.index == 0 {
         files.extend(
-            write_plots(&analysis, &records, &ctx.out_dir.join(&rel), &mut warnings)
+            write_plots(analysis, records, &ctx.out_dir.join(&rel), &mut warnings)
                 .into_iter()
                 .map(|f| rel.join(f)),
         );
     }
+    Ok(Written {
+        files,
+        tangent,
+        structure_values,
+        warnings,
+    })
+}
 
-    let mut values: BTreeMap<String, f64> = structure_values.into_iter().collect();
+/// Depth below the first contact, platen (sphere) force and branch of every step.
+fn load_depth_table(records: &[StepRecord]) -> Table {
+    let h0 = records[0].height;
+    Table::new()
+        .column("depth_nm", records.iter().map(|r| h0 - r.height).collect())
+        .column(
+            "load_nN",
+            records.iter().map(|r| r.state.platen_force).collect(),
+        )
+        .column(
+            "loading",
+            records
+                .iter()
+                .map(|r| f64::from(u8::from(r.loading)))
+                .collect(),
+        )
+}
+
+/// The realisation's size, relaxation and compression cost into `values`.
+fn realisation_values(
+    values: &mut BTreeMap<String, f64>,
+    turf: &Turf,
+    sys: &TurfSystem,
+    relaxed: &RelaxReport,
+    resume: Option<&Resume>,
+    records: &[StepRecord],
+) {
     let mut put = |name: &str, v: f64| {
         values.insert(name.to_string(), v);
     };
     put("tubes", turf.tubes.len() as f64);
     put("segments", sys.model.rods.segments() as f64);
-    put("box_area_nm2", area);
-    if let Some(r) = &resume {
+    put("box_area_nm2", sys.area);
+    if let Some(r) = resume {
         put("resumed_after_step", (r.steps.len() - 1) as f64);
     }
     let b0 = relaxed.initial.energy.balance();
@@ -640,6 +749,26 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     put("relaxation_iterations", relaxed.cost.iterations as f64);
     put("wall_time_relaxation_s", relaxed.cost.seconds);
     put("turf_height_nm", records[0].height);
+    put(
+        "wall_time_compression_s",
+        records.iter().map(|r| r.cost.seconds).sum(),
+    );
+    put(
+        "compression_iterations",
+        records.iter().map(|r| r.cost.iterations).sum::<usize>() as f64,
+    );
+}
+
+/// The curve's analysis (peak, work, hysteresis, the fitted (5.1) law, σ₀) and the contacts at
+/// the `peak` step into `values`.
+fn analysis_values(
+    values: &mut BTreeMap<String, f64>,
+    analysis: &CurveAnalysis,
+    peak: &StepRecord,
+) {
+    let mut put = |name: &str, v: f64| {
+        values.insert(name.to_string(), v);
+    };
     put("peak_stress_GPa", analysis.peak_stress);
     put("loading_work_GPa", analysis.loading_work);
     if let Some(w) = analysis.unloading_work {
@@ -657,34 +786,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     if let Some(s0) = analysis.threshold_stress() {
         put("sigma0_GPa", s0);
     }
-    let peak = &records[k.steps];
     put("contacts_at_peak", peak.state.contacts as f64);
-    put(
-        "wall_time_compression_s",
-        records.iter().map(|r| r.cost.seconds).sum(),
-    );
-    put(
-        "compression_iterations",
-        records.iter().map(|r| r.cost.iterations).sum::<usize>() as f64,
-    );
-    let evaluations = relaxed.cost.gradient_evaluations
-        + records
-            .iter()
-            .map(|r| r.cost.gradient_evaluations)
-            .sum::<usize>();
-    Ok(Finished {
-        index: job.index,
-        seed: job.seed,
-        path: records
-            .iter()
-            .map(|r| (r.strain, r.loading, r.stress))
-            .collect(),
-        values,
-        tangent,
-        files,
-        evaluations: evaluations as u64,
-        warnings,
-    })
 }
 
 /// The scalars of a realisation that the ensemble reduces, as (summary name without the unit,
@@ -724,21 +826,7 @@ fn ensemble_output(
     ctx: &StageContext,
 ) -> Result<StageOutput, StageError> {
     let count = results.len();
-    let mut finished = Vec::new();
-    let mut failures = Vec::new();
-    for (i, r) in results.into_iter().enumerate() {
-        match r {
-            Ok(f) => finished.push(f),
-            Err(e) => {
-                let why = match e {
-                    StageError::Failed { message, .. } => message,
-                    StageError::Report { source, .. } => source.to_string(),
-                    other => other.to_string(),
-                };
-                failures.push((i, ensemble::realisation_seed(s.scene.seed, i), why));
-            }
-        }
-    }
+    let (finished, failures) = partition(s, results);
     let failure_text: Vec<String> = failures
         .iter()
         .map(|(i, seed, why)| format!("realisation {i} (seed {seed}) failed: {why}"))
@@ -804,30 +892,7 @@ fn ensemble_output(
             estimates.insert(name.to_string(), ensemble::estimate_json(e));
         }
     }
-    let realisations: Vec<serde_json::Value> = finished
-        .iter()
-        .map(|f| {
-            serde_json::json!({
-                "realisation": f.index,
-                "seed": f.seed,
-                "dir": ensemble::realisation_dir(f.index).display().to_string(),
-                "values": f.values,
-            })
-        })
-        .collect();
-    let failed_json: Vec<serde_json::Value> = failures
-        .iter()
-        .map(|(i, seed, why)| serde_json::json!({"realisation": i, "seed": seed, "error": why}))
-        .collect();
-    let json = serde_json::json!({
-        "realisations": count,
-        "finished": finished.len(),
-        "confidence_interval": ensemble::INTERVAL_DEFINITION,
-        "estimates": estimates,
-        "mean_curve": analysis_json(&mean_analysis),
-        "members": realisations,
-        "failed": failed_json,
-    });
+    let json = ensemble_json(count, &finished, &failures, estimates, &mean_analysis);
     write_json(&ctx.out_dir.join(ENSEMBLE_JSON), &json).map_err(report)?;
     files.push(ENSEMBLE_JSON.into());
     if s.output.plots {
@@ -854,6 +919,67 @@ fn ensemble_output(
     }
     out.files.extend(files);
     Ok(out)
+}
+
+/// A failed realisation: its index, its seed and why it failed.
+type Failure = (usize, u64, String);
+
+/// The finished realisations and the failed ones, in realisation order.
+fn partition(
+    s: &crate::scene::Scene,
+    results: Vec<Result<Finished, StageError>>,
+) -> (Vec<Finished>, Vec<Failure>) {
+    let mut finished = Vec::new();
+    let mut failures = Vec::new();
+    for (i, r) in results.into_iter().enumerate() {
+        match r {
+            Ok(f) => finished.push(f),
+            Err(e) => {
+                let why = match e {
+                    StageError::Failed { message, .. } => message,
+                    StageError::Report { source, .. } => source.to_string(),
+                    other => other.to_string(),
+                };
+                failures.push((i, ensemble::realisation_seed(s.scene.seed, i), why));
+            }
+        }
+    }
+    (finished, failures)
+}
+
+/// `discrete_ensemble.json`: the estimates with their intervals, the mean curve's analysis,
+/// every finished member's values and every failure.
+fn ensemble_json(
+    count: usize,
+    finished: &[Finished],
+    failures: &[Failure],
+    estimates: serde_json::Map<String, serde_json::Value>,
+    mean_analysis: &CurveAnalysis,
+) -> serde_json::Value {
+    let members: Vec<serde_json::Value> = finished
+        .iter()
+        .map(|f| {
+            serde_json::json!({
+                "realisation": f.index,
+                "seed": f.seed,
+                "dir": ensemble::realisation_dir(f.index).display().to_string(),
+                "values": f.values,
+            })
+        })
+        .collect();
+    let failed_json: Vec<serde_json::Value> = failures
+        .iter()
+        .map(|(i, seed, why)| serde_json::json!({"realisation": i, "seed": seed, "error": why}))
+        .collect();
+    serde_json::json!({
+        "realisations": count,
+        "finished": finished.len(),
+        "confidence_interval": ensemble::INTERVAL_DEFINITION,
+        "estimates": estimates,
+        "mean_curve": analysis_json(mean_analysis),
+        "members": members,
+        "failed": failed_json,
+    })
 }
 
 /// `[rods]`: the rods in equilibrium under their end loads (Newton, default tolerances).
