@@ -1,7 +1,7 @@
 //! Stability at the extremes of the parameters (issue 9, item 3): each case either converges to
 //! the correct answer where one is known (a closed form or a limit) or stops with a named error
 //! — never NaN, never a panic, never a hang. One section per extreme; the heavy cases are
-//! `#[ignore]`d and run by `cargo test --release --test extremes -- --ignored` (numbers in
+//! `#[ignore]`d and run by `cargo test --release --test integration extremes:: -- --ignored` (numbers in
 //! docs/validation.md, "Extremes").
 
 use turf::bench::presets::tabor_sphere;
@@ -120,7 +120,7 @@ fn fe_at_mu_0_01_small_strain_matches_the_halfspace() {
 
 /// Heavy in the dev profile: ≈ 70 s for both laws in release (trace + three-grid study; the
 /// fine zone follows the crack tip and the contact interior is graded, docs/validation-halfspace.md).
-/// Run: `cargo test --release --test extremes -- --ignored halfspace_at_mu_10`.
+/// Run: `cargo test --release --test integration -- --ignored extremes::halfspace_at_mu_10`.
 #[test]
 #[ignore = "≈ 70 s in release, several minutes in the dev profile"]
 fn halfspace_at_mu_10_approaches_jkr() {
@@ -385,7 +385,7 @@ fn mesh_of_a_thousand_elements_gives_hertz() {
 }
 
 /// Heavy: 100,798 elements, 50 s wall and 327 MB in the test profile (docs/validation.md
-/// Extremes); run with `cargo test --release --test extremes -- --ignored mesh_of_a_hundred`.
+/// Extremes); run with `cargo test --release --test integration -- --ignored extremes::mesh_of_a_hundred`.
 #[test]
 #[ignore = "100k-element mesh: ~50 s and 330 MB, too heavy for the default suite"]
 fn mesh_of_a_hundred_thousand_elements_gives_hertz() {
