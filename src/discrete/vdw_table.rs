@@ -11,7 +11,7 @@
 //!
 //!   G(d, x) = ∫₀ˣ u(√(d² + σ²)) dσ   (odd in x),
 //!
-//! a function of two numbers only. G is tabulated once per potential on a uniform (d, x) grid
+//! a function of two numbers only. G is tabulated once per potential on a (d, x) grid
 //! with G_x = u(ρ) and G_dx = u′(ρ) d/ρ exact and G, G_d by 8-point Gauss–Legendre per cell,
 //! and interpolated by bicubic Hermite polynomials. The segment-pair energy is Σᵢ Wᵢ J(pᵢ; b)
 //! over the material Gauss points of a (the same points and weights as the quadrature kernel):
@@ -37,12 +37,13 @@ use super::vdw::{
 use crate::numerics::quadrature::gauss_legendre_unit;
 
 /// Row spacing of the table in the axis distance d, nm: the repulsive wall of u varies over
-/// ≈ z₀/9 ≈ 0.04 nm. Measured against direct integration over gaps 0.18–3.3 nm (default
-/// potential): the largest error of G is 2e-7 at this spacing, 1.7e-6 at 0.004 nm, against a
-/// depth G(·, ∞) = −γ_L/2 = −0.5 nN.
+/// ≈ z₀/9 ≈ 0.04 nm. Measured against direct integration (default potential): the largest
+/// error of G is 2e-7 at this spacing for gaps 0.23–3.3 nm (1.7e-6 at 0.004 nm), against a
+/// depth G(·, ∞) = −γ_L/2 = −0.5 nN, and 5.5e-7 (1.6e-7 of the value) at 0.21 nm, next to the
+/// law's guard at 0.5 z₀ where u‴ jumps.
 pub const D_STEP: f64 = 0.002;
 /// Column spacing of the table in the axial coordinate x, nm: G_x = u is exact at the nodes,
-/// and at 0.05 nm the error of G stays below 2e-7 (at 0.1 nm, 5e-7 at a gap of 0.21 nm).
+/// and spacings of 0.025–0.1 nm give the same largest error (the rows set it).
 pub const X_STEP: f64 = 0.05;
 /// Gap (nm) of the table's lowest row; below it G is continued linearly in d.
 const GAP_FLOOR: f64 = -2.0;
