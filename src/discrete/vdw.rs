@@ -57,7 +57,8 @@ pub struct VdwParams {
     /// same-tube segment pairs closer in arclength than this factor times the cutoff distance
     /// 2r + g_c are excluded (≥ 1, so that a straight tube has no self-energy)
     pub self_exclusion_factor: f64,
-    /// how the inner line integral over the partner segment is evaluated
+    /// how the inner line integral over the partner segment is evaluated (default: the point
+    /// quadrature, the reference; scenes default to the table, `[turf.vdw] kernel`)
     pub kernel: VdwKernel,
 }
 

@@ -194,6 +194,7 @@ impl InnerTable {
             return out;
         }
         let (ax, sign) = if x < 0.0 { (-x, -1.0) } else { (x, 1.0) };
+        let (i, dw) = self.row_weights(d);
         // x: Hermite in the cell, or the last column's value beyond x_end (where G_x ≡ 0)
         let (j, xw) = if ax >= self.x_end {
             let mut w = [[0.0; 4]; 3];
@@ -202,21 +203,6 @@ impl InnerTable {
         } else {
             let j = ((ax / self.hx) as usize).min(self.nx - 2);
             (j, hermite(ax / self.hx - j as f64, self.hx))
-        };
-        // d: Hermite in the cell, or the first row continued linearly below the floor
-        let (i, dw) = if d < self.d_min {
-            let mut w = [[0.0; 4]; 3];
-            w[0][0] = 1.0;
-            w[0][1] = d - self.d_min;
-            w[1][1] = 1.0;
-            (0, w)
-        } else if d < self.d_fine {
-            let i = (((d - self.d_min) / self.hc) as usize).min(self.nc - 1);
-            (i, hermite((d - self.d_min) / self.hc - i as f64, self.hc))
-        } else {
-            let k = (((d - self.d_fine) / self.hd) as usize).min(self.nd - self.nc - 2);
-            let u = (d - self.d_fine) / self.hd - k as f64;
-            (self.nc + k, hermite(u, self.hd))
         };
         // tensor-product evaluation: along x on the two rows (for G and for G_d), then along d
         let kx_max = if second { 3 } else { 2 };
@@ -246,6 +232,54 @@ impl InnerTable {
             out[k] *= sign;
         }
         out
+    }
+
+    /// [`eval`](Self::eval) at x ≥ `x_end`, where G no longer depends on x: the last column
+    /// alone, Hermite in d (G_x, G_dx and G_xx are 0). The same numbers as `eval` there, at a
+    /// quarter of the look-ups: the points of a long contact away from the partner's ends.
+    pub fn eval_beyond(&self, d: f64, second: bool) -> Derivs {
+        let mut out = [0.0; 6];
+        if d >= self.rc {
+            return out;
+        }
+        let (i, dw) = self.row_weights(d);
+        let last = self.nx - 1;
+        let orders: &[(usize, usize)] = if second {
+            &[(0, 0), (1, 1), (2, 3)]
+        } else {
+            &[(0, 0), (1, 1)]
+        };
+        for &(kd, o) in orders {
+            for a in 0..2 {
+                let [g, gd, _, _] = self.data[(i + a) * self.nx + last];
+                out[o] += dw[kd][2 * a] * g + dw[kd][2 * a + 1] * gd;
+            }
+        }
+        out
+    }
+
+    /// Whether G(d, x) is independent of x (x ≥ `x_end`, for every tabulated d).
+    pub fn beyond_reach(&self, x: f64) -> bool {
+        x >= self.x_end
+    }
+
+    /// The first row and the Hermite weights in d (value, first and second derivative) at
+    /// axis distance `d`; below the floor, the first row continued linearly.
+    fn row_weights(&self, d: f64) -> (usize, [[f64; 4]; 3]) {
+        if d < self.d_min {
+            let mut w = [[0.0; 4]; 3];
+            w[0][0] = 1.0;
+            w[0][1] = d - self.d_min;
+            w[1][1] = 1.0;
+            (0, w)
+        } else if d < self.d_fine {
+            let i = (((d - self.d_min) / self.hc) as usize).min(self.nc - 1);
+            (i, hermite((d - self.d_min) / self.hc - i as f64, self.hc))
+        } else {
+            let k = (((d - self.d_fine) / self.hd) as usize).min(self.nd - self.nc - 2);
+            let u = (d - self.d_fine) / self.hd - k as f64;
+            (self.nc + k, hermite(u, self.hd))
+        }
     }
 }
 
@@ -439,8 +473,15 @@ pub fn energy_segment_segment_tabulated(
         let off = s - s.clamp(0.0, len);
         out.point_pairs += 1;
         out.min_gap = out.min_gap.min((d2 + off * off).sqrt() - r_sum);
-        let far = table.eval(d, len - s, want_hessian);
-        let near = table.eval(d, s, want_hessian);
+        let (far, near) = if table.beyond_reach(s) && table.beyond_reach(len - s) {
+            let g = table.eval_beyond(d, want_hessian);
+            (g, g)
+        } else {
+            (
+                table.eval(d, len - s, want_hessian),
+                table.eval(d, s, want_hessian),
+            )
+        };
         let f = first_derivatives(&far, &near, len);
         let p = AxisPoint::new(d, s, len, [eh.x, eh.y, eh.z], [rp.x, rp.y, rp.z]);
         let w = qa.weight * b.length0;
@@ -579,6 +620,30 @@ mod tests {
         }
     }
 
+    /// Beyond the reach of the cutoff the one-column look-up gives `eval`'s numbers, bit for
+    /// bit, in the coarse and fine rows, below the floor and beyond the cutoff.
+    #[test]
+    fn the_look_up_beyond_reach_is_eval_there() {
+        let (_, table, _) = setup();
+        for &gap in &[-2.7, -1.3, -0.2, 0.34, 1.9, 3.3, 5.0] {
+            for &x in &[table.x_end, table.x_end + 0.013, 80.0] {
+                let d = R_SUM + gap;
+                assert!(table.beyond_reach(x));
+                assert_eq!(
+                    table.eval_beyond(d, true),
+                    table.eval(d, x, true),
+                    "{gap} {x}"
+                );
+                assert_eq!(
+                    table.eval_beyond(d, false),
+                    table.eval(d, x, false),
+                    "{gap} {x}"
+                );
+            }
+        }
+        assert!(!table.beyond_reach(0.99 * table.x_end));
+    }
+
     /// Two parallel straight axes at the calibrated distance: each point of the shorter one
     /// sees the longer as infinite, so the energy is −γ_L per unit length of the shorter.
     #[test]
@@ -661,6 +726,16 @@ mod tests {
             length0: 20.0,
         };
         cases.push((along(0.0, 0.0), along(12.0, 40.4)));
+        // a long, nearly parallel contact: most points of a are beyond the reach of b's ends
+        let long = |x0: f64, y: f64, tilt: f64| QuadSegment {
+            ends: [
+                Vector::new(x0, y, 0.0),
+                Vector::new(x0 + 150.0, y + tilt, 0.3),
+            ],
+            panels: 40,
+            length0: 150.0,
+        };
+        cases.push((long(10.0, 40.6, -0.4), long(-20.0, 0.0, 0.2)));
         const STEP: f64 = 1e-6;
         for (c, (a, b)) in cases.iter().enumerate() {
             let base = energy_segment_segment_tabulated(&pot, &table, &rule, a, b, true);

@@ -773,8 +773,12 @@ fn switches(scene: &Scene, continuum: bool, d: &Derived) -> Vec<Switch> {
             vdw.is_some(),
             match vdw {
                 Some(v) => format!(
-                    "vdW line contacts, γ_L = {} nN, broadphase search",
-                    v.gamma_line.0
+                    "vdW line contacts, γ_L = {} nN, {} kernel, broadphase search",
+                    v.gamma_line.0,
+                    match v.kernel {
+                        crate::scene::turf::VdwKernel::Tabulated => "tabulated",
+                        crate::scene::turf::VdwKernel::Quadrature => "quadrature",
+                    }
                 ),
                 None => "no [turf.vdw]/[rods.vdw]: tubes do not interact".into(),
             },
