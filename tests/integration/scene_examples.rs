@@ -215,6 +215,28 @@ fn quickstart_is_the_chain_on_a_small_turf_with_its_tubes_thermal_shift() {
     assert_eq!(l.base.derived.tube_count, Some(9.0));
     // a card's moduli are known only at run time: no mesh sizes derived before the run
     assert!(l.base.derived.mesh.is_none());
+    // the tabulated van der Waals kernel by default, the quadrature on request; the plan says which
+    let kernel = |overrides: &[String]| {
+        let l = load(&scenes_dir().join("quickstart.toml"), overrides).unwrap();
+        let s = l
+            .base
+            .plan
+            .physics
+            .iter()
+            .find(|s| s.name == "tube_contacts");
+        s.unwrap().detail.clone()
+    };
+    assert!(kernel(&[]).contains("tabulated kernel"), "{}", kernel(&[]));
+    let quad = kernel(&["turf.vdw.kernel=\"quadrature\"".to_string()]);
+    assert!(quad.contains("quadrature kernel"), "{quad}");
+    // cache keys: a quadrature turf serialises without the key (as every turf did before the
+    // table existed), a tabulated one with it, so neither reuses the other's results
+    let turf_json = |overrides: &[String]| {
+        let l = load(&scenes_dir().join("quickstart.toml"), overrides).unwrap();
+        serde_json::to_string(&l.base.scene.turf).unwrap()
+    };
+    assert!(turf_json(&[]).contains("\"kernel\":\"tabulated\""));
+    assert!(!turf_json(&["turf.vdw.kernel=\"quadrature\"".to_string()]).contains("kernel"));
 }
 
 #[test]
