@@ -1,4 +1,4 @@
-//! The speed–accuracy trade (issue 9): one ladder of problems, each answered by every fidelity
+//! The speed–accuracy trade: one ladder of problems, each answered by every fidelity
 //! that can answer it — closed form, half-space, FE at small and at finite strain, discrete
 //! tubes, the homogenised card — with its answer, the reference it is judged against, its error
 //! and its cost; and refinement sweeps (grid, mesh, segments, time step) giving error against

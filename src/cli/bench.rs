@@ -1,4 +1,4 @@
-//! `turf bench`: the speed–accuracy ladder and refinement sweeps (issue 9), written as
+//! `turf bench`: the speed–accuracy ladder and refinement sweeps, written as
 //! `bench.json`, `bench.md` and `plots/*.svg|png` in the output folder.
 
 use clap::Args;

@@ -121,7 +121,7 @@ pub const DEFAULT_MAX_ELEMENTS: usize = 1_000_000;
 
 type Cell = (u32, u64, u64); // (level, i, j)
 
-/// A band of fine elements that follows the contact edge (adaptive meshing, issue 17): cells of
+/// A band of fine elements that follows the contact edge (adaptive meshing): cells of
 /// the smallest size h₀ over r ∈ [e₁ − w, e₂ + w] down to depth w, growing as h₀ + g·d away from
 /// it, and at the surface over the contact (r ≤ e₂ + w) no larger than `surface` (growing as
 /// `surface` + g·d below it). Usually e₁ = e₂ = e, the edge; while the edge jumps the band spans

@@ -1,4 +1,4 @@
-//! Analysis of a compression curve (issue 7, item 7; seed §2.4 eqs. 2.13–2.14, §5.1 eq. 5.1).
+//! Analysis of a compression curve (seed §2.4 eqs. 2.13–2.14, §5.1 eq. 5.1).
 //!
 //! From the loading (and unloading) branch of nominal stress σ against nominal strain ε:
 //!

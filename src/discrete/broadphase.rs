@@ -1,4 +1,4 @@
-//! Broadphase for segment–segment interactions (issue 7, item 3): a parry BVH over segment
+//! Broadphase for segment–segment interactions: a parry BVH over segment
 //! boxes, refitted as tubes move, periodic images in x and y, and a Verlet neighbour list.
 //!
 //! A pair (a, b, s) means: segment a interacts with segment b translated by s·(L_x, L_y, 0).

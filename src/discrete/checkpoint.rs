@@ -1,4 +1,4 @@
-//! Checkpoints of the platen drive (issue 7, item 8): a long compression saves its state after
+//! Checkpoints of the platen drive: a long compression saves its state after
 //! every strain step, and an interrupted run resumes from the last saved step with the same
 //! curve as an uninterrupted one (`turf run … --resume`).
 //!

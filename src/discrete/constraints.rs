@@ -1,4 +1,4 @@
-//! End conditions and loads of the discrete rods (issue 7, item 1).
+//! End conditions and loads of the discrete rods.
 //!
 //! - Supports are fixed degrees of freedom ([`FixedDofs`]): the solvers never move them, so a
 //!   prescribed displacement is a fixed dof whose coordinate the caller sets before solving

@@ -1,4 +1,4 @@
-//! Quasi-static platen compression of the turf (issue 7, item 6; seed §2.4 and ch. 5: the
+//! Quasi-static platen compression of the turf (seed §2.4 and ch. 5: the
 //! compressive stress–strain curve that homogenisation turns into a card).
 //!
 //! The platen starts at the top of the relaxed turf, H₀ = max(z + r) over the free nodes (an

@@ -1,4 +1,4 @@
-//! Explicit rods (issue 7, item 9): a few given tubes, each a polyline resampled into equal
+//! Explicit rods: a few given tubes, each a polyline resampled into equal
 //! elastica segments, with clamped, pinned or free ends, a dead load on the last point, and
 //! optionally van der Waals contacts between them — the single- and few-tube problems
 //! (Bisshopp–Drucker cantilever, two adhered tubes) set up from plain data.

@@ -1,4 +1,4 @@
-//! The discrete turf as one potential energy (issue 7, items 4–6; seed §2.4, eq. 1.1):
+//! The discrete turf as one potential energy (seed §2.4, eq. 1.1):
 //! elastica tubes ([`RodSet`]: stretching + bending), tube–tube van der Waals contacts
 //! ([`VdwTerm`]), the substrate and the platen ([`Wall`]), with the clamped tube bases held
 //! fixed. A [`TurfSystem`] is built from a generated [`Turf`]; [`relax`] brings it to

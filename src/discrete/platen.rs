@@ -1,7 +1,7 @@
-//! Rigid frictionless walls as smooth one-sided penalty energies on the nodes (issue 7, item 6):
+//! Rigid frictionless walls as smooth one-sided penalty energies on the nodes:
 //! the compression platen z = H above the turf and the substrate z = 0 below it, or instead of
 //! the flat platen a rigid frictionless sphere of radius R whose lowest point is at z = H (the
-//! sphere-indentation drive, issue 7 build item 6, the discrete counterpart of the continuum
+//! sphere-indentation drive, the discrete counterpart of the continuum
 //! indentation of seed ch. 5).
 //!
 //! A node i of a tube of outer radius r_i penetrates a wall by d_i = z_i + r_i − H (platen,

@@ -1,5 +1,5 @@
 //! A tube as a discrete spatial elastica: a chain of nodes that stretches and bends
-//! (issue 7, item 1; seed chapter 2.4).
+//! (seed chapter 2.4).
 //!
 //! Energy of one rod with nodes x₀ … x_n, edges e_j = x_{j+1} − x_j (rest lengths ℓ_j):
 //!
@@ -13,7 +13,7 @@
 //! the laboratory frame. For a straight rest shape (κb⁰ = 0) the energy is invariant under any
 //! rigid motion. For a pre-bent rest shape it is invariant under translations only: rotating a
 //! pre-bent rod by a finite angle costs energy, so natural shapes are meant for tubes whose
-//! curvature stays near its rest orientation (the scenes of issue 7); a frame-transported natural
+//! curvature stays near its rest orientation (the turf scenes); a frame-transported natural
 //! curvature (Bergou's material frame) is not implemented.
 //!
 //! Kernels: [`super::rod_kernels`]. Many rods: [`RodSet`] evaluates them in parallel (rayon) and

@@ -1,4 +1,4 @@
-//! The turf as a representative volume beyond uniaxial compression (issue 19, item 2): the
+//! The turf as a representative volume beyond uniaxial compression: the
 //! transverse and longitudinal-shear responses an indenter's edge imposes, which the axial
 //! platen drive ([`super::drive`]) does not see.
 //!

@@ -1,5 +1,5 @@
 //! Quasi-static equilibrium of the discrete model: minimise the total energy over the free
-//! coordinates (issue 7, item 5).
+//! coordinates.
 //!
 //! Two solvers, selectable per scene, each reporting its [`Cost`]:
 //!

@@ -1,5 +1,5 @@
-//! Lennard-Jones adhesion between the rigid sphere indenter and the tubes (issue 19, build
-//! item 1): the surface law of the continuum indentation ([`SurfaceLaw`], plain or thermally
+//! Lennard-Jones adhesion between the rigid sphere indenter and the tubes: the
+//! surface law of the continuum indentation ([`SurfaceLaw`], plain or thermally
 //! shifted, seed eqs. 4.1, 5.10 and §5.2) acting between the sphere and each tube, integrated
 //! over the tube as a line of material.
 //!

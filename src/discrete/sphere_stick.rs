@@ -1,4 +1,4 @@
-//! Tips held where they touch the sphere indenter (issue 19, build item 1, "stick"): a node
+//! Tips held where they touch the sphere indenter ("stick"): a node
 //! that comes into contact is tied tangentially to the point of the sphere where it first
 //! touched, by a penalty spring in the sphere's tangent plane there, moving with the sphere.
 //!

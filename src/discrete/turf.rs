@@ -1,4 +1,4 @@
-//! Turf generation (issue 7, item 4; seed §2.4, Fig 1.1): nominally vertical, slightly wavy
+//! Turf generation (seed §2.4, Fig 1.1): nominally vertical, slightly wavy
 //! tubes grown from the substrate z = 0 in a box periodic in x and y.
 //!
 //! Tube i starts at a base point bᵢ on the substrate (uniform in the box, no two bases closer

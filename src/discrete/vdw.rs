@@ -1,5 +1,5 @@
-//! Tube–tube van der Waals interaction as a line-pair potential between tube axes (issue 7,
-//! item 2; seed §2.4: contact energy per unit length γ_L; docs/discrete-contacts.md).
+//! Tube–tube van der Waals interaction as a line-pair potential between tube axes
+//! (seed §2.4: contact energy per unit length γ_L; docs/discrete-contacts.md).
 //!
 //! Two tube axes interact through an energy per unit length² u(ρ) of the distance ρ between a
 //! point of one axis and a point of the other; the energy of two tubes is the double line

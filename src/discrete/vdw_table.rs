@@ -1,5 +1,5 @@
-//! The tube–tube van der Waals energy with its inner line integral tabulated (issue 18, item 1:
-//! the MESONT idea of tabulating the tube–segment interaction, applied to the double line
+//! The tube–tube van der Waals energy with its inner line integral tabulated (the
+//! MESONT idea of tabulating the tube–segment interaction, applied to the double line
 //! integral of [`super::vdw`], seed §2.4).
 //!
 //! The energy of a material point p of one axis with a straight segment b (current ends b₀, b₁,

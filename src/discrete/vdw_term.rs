@@ -1,7 +1,7 @@
 //! The tube–tube van der Waals energy of many tubes as one [`EnergyTerm`]: the line-pair
 //! potential of [`super::vdw`] summed over the segment pairs of the [`super::broadphase`]
 //! neighbour list, periodic images included, same-tube pairs closer than the self-exclusion
-//! arclength left out (issue 7, items 2–3).
+//! arclength left out.
 //!
 //! Segment pairs are evaluated in parallel (rayon) into a list in pair order and summed
 //! sequentially in that order, so the energy, gradient and Hessian are bitwise the same with

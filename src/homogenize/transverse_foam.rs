@@ -1,4 +1,4 @@
-//! The transversely isotropic foam card (issue 19, item 3) in closed form along the turf's three
+//! The transversely isotropic foam card in closed form along the turf's three
 //! RVE tests, and its fit to them.
 //!
 //! The model (the FE's [`crate::continuum::material::transverse_foam`], axis a = the tube axis

@@ -11,7 +11,7 @@
 //! Models: [`linear`] (St Venant–Kirchhoff; Hooke under small kinematics), [`hyperfoam`]
 //! (Storåkers/Abaqus `*HYPERFOAM`, seed eq. 5.3 corrected in PHYSICS.md), [`transverse_foam`]
 //! (the hyperfoam with fibre and longitudinal-shear terms along the Z axis: the turf's
-//! anisotropy, issue 19), and
+//! anisotropy), and
 //! [`viscoelastic`] (Prony series on the whole stress, seed eq. 5.8, Simo 1987 recurrence).
 //! Every model checks J = √det C > 0 and returns an error otherwise.
 

@@ -1,4 +1,4 @@
-//! Transversely isotropic hyperfoam (issue 19, item 3): the isotropic hyperfoam
+//! Transversely isotropic hyperfoam: the isotropic hyperfoam
 //! ([`super::hyperfoam`]) as the matrix, plus a foam of the fibre stretch along the preferred
 //! direction a — the tube axis, the FE's Z axis (the indentation axis) — and a longitudinal
 //! shear term:
