@@ -1,4 +1,4 @@
-//! Speed of the tube–tube van der Waals term (issue 7): point-pair evaluations per second with
+//! Speed of the tube–tube van der Waals term: point-pair evaluations per second with
 //! contacts by the point quadrature and by the tabulated kernel, segment evaluations per second
 //! of the whole turf energy with and without contacts, and the broadphase update of 100 tubes
 //! × 100 segments.

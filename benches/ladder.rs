@@ -1,4 +1,4 @@
-//! The cheap rungs of `turf bench`'s ladder under criterion (issue 9): the LJ 9-3 pull-off at
+//! The cheap rungs of `turf bench`'s ladder under criterion: the LJ 9-3 pull-off at
 //! μ = 0.5 by Maugis–Dugdale and the half-space solver, the FE Hertz load at both kinematics,
 //! the 50-segment cantilever. The FE pull-offs and the turf chain take seconds to minutes each
 //! and are timed by `turf bench` itself (docs/benchmarks.md).

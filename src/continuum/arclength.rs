@@ -31,34 +31,6 @@ use super::element::Kinematics;
 use super::indent::{snapshot, IndentParams, IndentResult, Progress, Row, Segment};
 use super::machine::Machine;
 use super::newton::{converged, norm, NewtonParams};
-use serde::{Deserialize, Serialize};
-
-/// Arc-length parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct ArcLengthParams {
-    /// corrector iterations a step aims at (Crisfield's I_d)
-    pub target_iterations: usize,
-    /// largest growth of Δl from one step to the next
-    pub max_growth: f64,
-    /// steps per schedule segment before the run stops (a curve that never reaches the target)
-    pub max_steps: usize,
-    /// modified Newton in the corrector: keep the factorisation of K_uu while each iteration
-    /// reduces the residual at least by this factor, refactorise otherwise (0: full Newton,
-    /// a factorisation per iteration)
-    pub contraction: f64,
-}
-
-impl Default for ArcLengthParams {
-    fn default() -> Self {
-        ArcLengthParams {
-            target_iterations: 5,
-            max_growth: 2.0,
-            max_steps: 5000,
-            contraction: 0.0,
-        }
-    }
-}
 
 /// The variable a schedule segment prescribes.
 #[derive(Debug, Clone, Copy, PartialEq)]

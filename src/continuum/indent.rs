@@ -1,35 +1,29 @@
-//! The indentation driver: schedule → increments → results. It reads as the algorithm:
-//! resolve the sizes from the scene ([`resolve`]), build the mesh and the solid
-//! (axis u_r = 0, base bonded u = 0), then for each schedule segment march the indenter depth
-//! (and time) in increments, solving each by Newton ([`super::newton`]); a failed increment
-//! is halved and retried, a quick one lets the increment grow back. Displacement control:
-//! the depth δ(t) follows the segments (approach/load/unload at a rate, hold for a time); the
-//! load is P = ∂Π/∂δ. Through a machine spring or under load control ([`super::machine`]) the
-//! schedule drives Δ or P̂ instead and δ is an unknown. With adhesion ([`super::adhesion`]) the
-//! schedule may start clear of the surface (`start` < 0) and the LJ law replaces the penalty;
-//! contact damping, if given, is integrated over each step (except on load-controlled
-//! segments) and its dissipation is reported per row against the strain energy. Under load
-//! control an unloading segment that finds no equilibrium after every halving has reached the
-//! pull-off: the indenter separates there and the run ends ([`IndentResult::separated_nN`]).
+//! The indentation problem (seed chapter 4): what a run is given ([`IndentParams`]: material,
+//! indenter, mesh, contact or adhesion, machine, schedule, solver), the sizes it resolves them
+//! to ([`resolve`]: contact radius, mesh block and process-zone band, penalty), the mesh it
+//! starts on, and what it produces ([`IndentResult`]: one [`Row`] per converged increment,
+//! snapshots at the end of each segment, the meshes of an adaptive run, the cost). The march
+//! that solves it is [`super::march`]'s [`run_indent`](super::run_indent). Displacement
+//! control: the depth δ(t) follows the segments (approach/load/unload at a rate, hold for a
+//! time); the load is P = ∂Π/∂δ. Through a machine spring or under load control
+//! ([`super::machine`]) the schedule drives Δ or P̂ instead and δ is an unknown. With adhesion
+//! ([`super::adhesion`]) the schedule may start clear of the surface (`start` < 0) and the LJ
+//! law replaces the penalty.
 
 use super::adhesion::{self, AdhesionParams};
-use super::arclength::{ArcLengthParams, Curve};
-use super::assembly::{Assembler, AssemblyStats, Solid};
-use super::contact::{Contact, Damping, ProfilePoint, SmoothPenalty, SurfaceLaw};
+use super::assembly::{AssemblyStats, Solid};
+use super::contact::{Contact, ProfilePoint, SmoothPenalty};
 use super::element::Kinematics;
 use super::indenter::Indenter;
-use super::machine::{Drive, Driven, Machine};
+use super::machine::Machine;
 use super::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use super::material::linear::LinearElastic;
 use super::material::viscoelastic::{validate_prony, PronyTerm, Viscoelastic};
 use super::material::{Elastic, Voigt};
 use super::mesh::{self, BlockSpec, EdgeZone, Mesh, MeshReport};
-use super::newton::{self, NewtonParams};
-use super::transfer;
+use super::newton::NewtonParams;
 use super::FeError;
-use crate::numerics::quadrature::gauss_legendre_unit;
 use serde::{Deserialize, Serialize};
-use std::time::Instant;
 
 /// One segment of the displacement schedule.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -130,7 +124,7 @@ pub const BAND_GAPS: f64 = 3.0;
 
 /// The radii the band must cover on `profile`: from the contact edge to the outermost gap
 /// below [`BAND_GAPS`] contact gaps, nm.
-fn band_span(contact: &Contact, profile: &[ProfilePoint]) -> (f64, f64) {
+pub(super) fn band_span(contact: &Contact, profile: &[ProfilePoint]) -> (f64, f64) {
     let gc = contact.law.contact_gap();
     (
         contact.radius_below(profile, gc),
@@ -208,6 +202,33 @@ pub enum Method {
     Newton,
     /// arc-length continuation through the folds ([`super::arclength`]; elastic, undamped)
     Riks,
+}
+
+/// Arc-length parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ArcLengthParams {
+    /// corrector iterations a step aims at (Crisfield's I_d)
+    pub target_iterations: usize,
+    /// largest growth of Δl from one step to the next
+    pub max_growth: f64,
+    /// steps per schedule segment before the run stops (a curve that never reaches the target)
+    pub max_steps: usize,
+    /// modified Newton in the corrector: keep the factorisation of K_uu while each iteration
+    /// reduces the residual at least by this factor, refactorise otherwise (0: full Newton,
+    /// a factorisation per iteration)
+    pub contraction: f64,
+}
+
+impl Default for ArcLengthParams {
+    fn default() -> Self {
+        ArcLengthParams {
+            target_iterations: 5,
+            max_growth: 2.0,
+            max_steps: 5000,
+            contraction: 0.0,
+        }
+    }
 }
 
 /// Increments and Newton.
@@ -702,7 +723,7 @@ pub fn mesh_preview(p: &IndentParams) -> Result<(Resolved, MeshReport), FeError>
 }
 
 /// Build the (first) mesh of a run: the band at the axis when adaptive.
-fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
+pub(super) fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
     if let Some(z) = &r.edge_zone {
         return Ok(mesh::edge_block(&r.block, z)?);
     }
@@ -713,19 +734,6 @@ fn build_mesh(p: &IndentParams, r: &Resolved) -> Result<Mesh, FeError> {
             Ok(mesh::read_msh(&text)?)
         }
         None => Ok(mesh::graded_block(&r.block)?),
-    }
-}
-
-/// The controlled variable at the start of a segment and its target: (value, target,
-/// duration, by load).
-fn segment_span(seg: &Segment, machine: Machine, drive: f64, load: f64) -> (f64, f64, f64, bool) {
-    let by_load = machine.load_controlled() && !matches!(seg, Segment::Approach { .. });
-    let now = if by_load { load } else { drive };
-    match *seg {
-        Segment::Load { to, rate }
-        | Segment::Unload { to, rate }
-        | Segment::Approach { to, rate } => (now, to, (to - now).abs() / rate, by_load),
-        Segment::Hold { time } => (now, now, time, by_load),
     }
 }
 
@@ -749,75 +757,8 @@ pub(super) fn snapshot(
     })
 }
 
-/// What lives on the mesh of a run: the solid, its assembler and the state (the displacements
-/// of the last two converged increments, δ last, and the Prony history).
-struct OnMesh<'a> {
-    solid: &'a mut Solid,
-    asm: &'a mut Assembler,
-    u: &'a mut Vec<f64>,
-    u_prev: &'a mut Vec<f64>,
-    history: &'a mut Vec<f64>,
-}
-
-/// Move the run onto the mesh of `zone` ([`mesh::edge_block`]): the state carried over by
-/// [`transfer`], the solid and the contact surface rebuilt, the mesh recorded in
-/// `result.adaptation`. Returns the gaps of the carried state on the new surface (the damping's
-/// start-of-step gaps).
-fn remesh(
-    p: &IndentParams,
-    zone: &EdgeZone,
-    time: f64,
-    contact: &mut Contact,
-    result: &mut IndentResult,
-    on: OnMesh,
-) -> Result<Vec<f64>, FeError> {
-    let new_mesh = mesh::edge_block(&result.resolved.block, zone)?;
-    let old = &result.mesh;
-    let n = on.solid.dofs();
-    let carry = |x: &[f64]| {
-        let mut y = transfer::interpolate_nodal(old, &x[..n], 2, &new_mesh);
-        y.push(x[n]);
-        y
-    };
-    *on.u = carry(on.u);
-    *on.u_prev = carry(on.u_prev);
-    *on.history = transfer::project_elementwise(old, on.history, on.solid.history_len(), &new_mesh);
-    *on.solid = new_solid(p, &new_mesh)?;
-    contact.segments = Contact::segments_of(&new_mesh);
-    let stats = on.asm.stats;
-    *on.asm = Assembler::new(on.solid, Some(contact))?;
-    on.asm.stats = stats;
-    let n = on.solid.dofs();
-    let small = p.kinematics == Kinematics::Small;
-    let gaps = contact
-        .profile(&current(on.solid, on.u), &on.solid.nodes, on.u[n], small)
-        .iter()
-        .map(|q| q.gap)
-        .collect();
-    result.adaptation.push(Adaptation {
-        increment: result.stats.increments,
-        time_s: time,
-        inner_nm: zone.inner,
-        outer_nm: zone.outer,
-        elements: new_mesh.triangles.len(),
-    });
-    result.mesh_report = new_mesh.report();
-    result.mesh = new_mesh;
-    Ok(gaps)
-}
-
-/// Current node positions X + u.
-fn current(solid: &Solid, u: &[f64]) -> Vec<[f64; 2]> {
-    solid
-        .nodes
-        .iter()
-        .enumerate()
-        .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
-        .collect()
-}
-
 /// The solid of a run on `mesh`: axis u_r = 0, base bonded u = 0.
-fn new_solid(p: &IndentParams, mesh: &Mesh) -> Result<Solid, FeError> {
+pub(super) fn new_solid(p: &IndentParams, mesh: &Mesh) -> Result<Solid, FeError> {
     let material = Viscoelastic {
         elastic: p.material.elastic.clone(),
         prony: p.material.prony.clone(),
@@ -831,309 +772,4 @@ fn new_solid(p: &IndentParams, mesh: &Mesh) -> Result<Solid, FeError> {
         solid.fixed[2 * n + 1] = true;
     }
     Ok(solid)
-}
-
-/// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished;
-/// so does an interrupt ([`crate::interrupt::requested`], polled after every converged
-/// increment).
-pub fn run_indent(
-    p: &IndentParams,
-    progress: &mut dyn FnMut(&Progress),
-) -> Result<IndentResult, FeError> {
-    let t_start = Instant::now();
-    let resolved = resolve(p)?;
-    let mut zone = resolved.edge_zone;
-    let mesh = build_mesh(p, &resolved)?;
-    let mesh_s = t_start.elapsed().as_secs_f64();
-    let mut solid = new_solid(p, &mesh)?;
-    let penalty = resolved.penalty;
-    let law: &dyn SurfaceLaw = match &p.adhesion {
-        Some(a) => &a.law,
-        None => &penalty,
-    };
-    let damping_law = p.adhesion.as_ref().and_then(|a| a.damping);
-    // the surface (for profiles and the pattern); each step adds its damping to a copy
-    let mut contact = Contact {
-        segments: Contact::segments_of(&mesh),
-        indenter: p.indenter,
-        law,
-        quadrature: gauss_legendre_unit(p.contact.quadrature_points),
-        damping: None,
-    };
-    let mut asm = Assembler::new(&solid, Some(&contact))?;
-    let a = resolved.expected_contact_radius_nm;
-    // the forces in play are at least the elastic scale at the contact and, with adhesion, the
-    // DMT pull-off 2πγR (the largest adhesive load): the residual tolerance is relative to them
-    let adhesive_force = p.adhesion.as_ref().map_or(0.0, |ad| {
-        2.0 * std::f64::consts::PI * ad.law.gamma() * p.indenter.radius()
-    });
-    let force_floor = (1e-6 * resolved.reduced_modulus_GPa * a * a).max(adhesive_force);
-
-    let small = p.kinematics == Kinematics::Small;
-    let mut ndof = solid.dofs();
-    // the unknowns: nodal displacements, then the indenter depth δ
-    let mut u = vec![0.0; ndof + 1];
-    u[ndof] = p.start;
-    let mut u_prev = u.clone();
-    let profile0 = contact.profile(&current(&solid, &u), &solid.nodes, p.start, small);
-    let mut gaps: Vec<f64> = profile0.iter().map(|q| q.gap).collect();
-    // the radii the adaptive band must cover at the last converged state
-    let mut span = band_span(&contact, &profile0);
-    // the band the next increment is to be solved with, when it differs from the current one
-    let mut pending: Option<EdgeZone> = None;
-    let mut history = vec![0.0; solid.history_len() * solid.elements.len()];
-    let ev0 = asm.evaluate(
-        &solid,
-        Some(&contact),
-        (&u[..ndof], &history),
-        0.0,
-        p.start,
-        false,
-    )?;
-    let mut result = IndentResult {
-        params: p.clone(),
-        resolved,
-        mesh_report: mesh.report(),
-        adaptation: zone
-            .iter()
-            .map(|z| Adaptation {
-                increment: 0,
-                time_s: 0.0,
-                inner_nm: z.inner,
-                outer_nm: z.outer,
-                elements: mesh.triangles.len(),
-            })
-            .collect(),
-        mesh,
-        rows: vec![Row {
-            time_s: 0.0,
-            depth_nm: p.start,
-            load_nN: ev0.load,
-            contact_radius_nm: 0.0,
-            iterations: 0,
-            drive_nm: p.start,
-            gap_nm: gaps.first().copied().unwrap_or(0.0),
-            strain_energy_aJ: 0.0,
-            damping_dissipated_aJ: 0.0,
-            segment: 0,
-        }],
-        snapshots: Vec::new(),
-        stats: RunStats {
-            mesh_s,
-            ..RunStats::default()
-        },
-        failure: None,
-        separated_nN: None,
-    };
-    if p.solver.method == Method::Riks {
-        let mut curve = Curve {
-            asm: &mut asm,
-            solid: &solid,
-            contact: &contact,
-            force_floor,
-            newton: p.solver.newton,
-            contraction: p.solver.arclength.contraction,
-        };
-        let outcome = curve.trace(p, u, &mut result, progress);
-        result.stats.assembly = asm.stats;
-        result.stats.wall_s = t_start.elapsed().as_secs_f64();
-        return match outcome {
-            Ok(()) => Ok(result),
-            Err(why) => {
-                result.failure = Some(why);
-                Err(FeError::Stopped(Box::new(result)))
-            }
-        };
-    }
-    let mut last_dv = 0.0;
-    let (mut time, mut drive) = (0.0, p.start);
-    let mut load = p.machine.applied_load(ev0.load, p.start);
-    let mut dissipated = 0.0;
-    let base = 1.0 / p.solver.increments.max(1) as f64;
-
-    'schedule: for (si, seg) in p.schedule.iter().enumerate() {
-        let (v0, target, duration, by_load) = segment_span(seg, p.machine, drive, load);
-        let t0 = time;
-        let mut value = v0;
-        let (mut done, mut step, mut cutbacks) = (0.0f64, base, 0usize);
-        let mut remeshes = 0usize;
-        while done < 1.0 - 1e-12 {
-            // adaptive: move onto the mesh asked for by the last increment
-            if let Some(z) = pending.take() {
-                let on = OnMesh {
-                    solid: &mut solid,
-                    asm: &mut asm,
-                    u: &mut u,
-                    u_prev: &mut u_prev,
-                    history: &mut history,
-                };
-                gaps = remesh(p, &z, time, &mut contact, &mut result, on)?;
-                ndof = solid.dofs();
-                last_dv = 0.0;
-                zone = Some(z);
-            }
-            let s = step.min(1.0 - done);
-            let new_value = v0 + (target - v0) * (done + s);
-            let dt = duration * s;
-            let dv = new_value - value;
-            let mode = p.machine.drive(by_load, new_value);
-            // predictor: extrapolate the last increment's change of (u, δ)
-            let mut x = u.clone();
-            if last_dv != 0.0 && dv * last_dv > 0.0 {
-                let ratio = dv / last_dv;
-                for ((xi, ui), pi) in x.iter_mut().zip(&u).zip(&u_prev) {
-                    *xi += ratio * (ui - pi);
-                }
-            }
-            if let Drive::Depth(d) = mode {
-                x[ndof] = d;
-            }
-            let step_contact = Contact {
-                segments: contact.segments.clone(),
-                quadrature: contact.quadrature.clone(),
-                // not on load-controlled segments: a damped step can hold a load beyond the
-                // static limit (the viscous force making up the difference), so the
-                // separation load would depend on c₀
-                damping: damping_law.filter(|_| !by_load).map(|law| Damping {
-                    law,
-                    previous: &gaps,
-                    dt,
-                }),
-                ..contact
-            };
-            let mut sys = Driven {
-                asm: &mut asm,
-                solid: &solid,
-                contact: Some(&step_contact),
-                history: &history,
-                dt,
-                drive: mode,
-                force_floor,
-            };
-            let solved = newton::solve(&mut sys, &mut x, &p.solver.newton)
-                .map_err(|e| e.to_string())
-                .and_then(|info| p.indenter.check_depth(x[ndof]).map(|()| info));
-            // adaptive: an edge that left the band is solved again on a mesh whose band spans
-            // it and the last converged one (that state carried over)
-            if let (Some(z), Ok(_)) = (&zone, &solved) {
-                let trial = contact.profile(&current(&solid, &x), &solid.nodes, x[ndof], small);
-                let (lo, hi) = band_span(&contact, &trial);
-                let reach = EDGE_SAFE * z.half_width;
-                if (lo < z.inner - reach || hi > z.outer + reach)
-                    && remeshes < MAX_REMESHES_PER_INCREMENT
-                {
-                    remeshes += 1;
-                    pending = Some(EdgeZone {
-                        inner: lo.min(span.0),
-                        outer: hi.max(span.1),
-                        ..*z
-                    });
-                    continue;
-                }
-            }
-            match solved {
-                Ok(info) => {
-                    let ev = sys.evaluation(&x, false)?;
-                    let depth = x[ndof];
-                    solid.commit(&x[..ndof], &mut history, dt)?;
-                    u_prev = std::mem::replace(&mut u, x);
-                    last_dv = dv;
-                    value = new_value;
-                    done += s;
-                    time = t0 + duration * done;
-                    dissipated += 2.0 * ev.damping_energy;
-                    let profile = contact.profile(&current(&solid, &u), &solid.nodes, depth, small);
-                    gaps.clear();
-                    gaps.extend(profile.iter().map(|q| q.gap));
-                    drive = mode.position(depth, ev.load);
-                    // the controlled force: P̂ = Q except through the transducer's springs
-                    load = p.machine.applied_load(ev.load, depth);
-                    let row = Row {
-                        time_s: time,
-                        depth_nm: depth,
-                        load_nN: ev.load,
-                        contact_radius_nm: contact.contact_radius(&profile),
-                        iterations: info.iterations,
-                        drive_nm: drive,
-                        gap_nm: gaps.first().copied().unwrap_or(0.0),
-                        strain_energy_aJ: ev.strain_energy,
-                        damping_dissipated_aJ: dissipated,
-                        segment: si,
-                    };
-                    result.rows.push(row);
-                    result.stats.increments += 1;
-                    result.stats.newton_iterations += info.iterations;
-                    progress(&Progress {
-                        segment: si,
-                        segments: p.schedule.len(),
-                        row,
-                        elements: solid.elements.len(),
-                    });
-                    remeshes = 0;
-                    if crate::interrupt::requested() {
-                        result.failure = Some(crate::interrupt::REASON.into());
-                        result.stats.assembly = asm.stats;
-                        result.stats.wall_s = t_start.elapsed().as_secs_f64();
-                        return Err(FeError::Stopped(Box::new(result)));
-                    }
-                    if info.iterations <= p.solver.quick_iterations {
-                        step = (step * p.solver.growth).min(base);
-                    }
-                    // a band wider than the converged state needs (after a jump, or as the
-                    // contact shrinks) narrows to it
-                    span = band_span(&contact, &profile);
-                    if let Some(z) = &zone {
-                        let reach = 2.0 * EDGE_SAFE * z.half_width;
-                        if span.0 > z.inner + reach || span.1 < z.outer - reach {
-                            pending = Some(EdgeZone {
-                                inner: span.0,
-                                outer: span.1,
-                                ..*z
-                            });
-                        }
-                    }
-                }
-                Err(e) => {
-                    cutbacks += 1;
-                    result.stats.cutbacks += 1;
-                    step *= 0.5;
-                    last_dv = 0.0;
-                    // `max_cutbacks` bounds how small an increment may get: base / 2^max. A
-                    // count of the halvings over the whole segment would fail a long segment
-                    // with a few recovered cutbacks (a contact edge sweeping over surface
-                    // nodes) at an increment halved once (hyperfoam_indent.toml,
-                    // docs/validation-continuum.md); a count reset at each converged increment
-                    // would let a load-controlled retraction creep towards the pull-off fold
-                    // in ever smaller converged steps without end
-                    let exhausted = step < base * 0.5f64.powi(p.solver.max_cutbacks as i32);
-                    if exhausted && by_load && target < v0 {
-                        // the specimen's force at the last equilibrium (= the controlled
-                        // load P̂ without transducer springs)
-                        result.separated_nN = result.rows.last().map(|r| r.load_nN);
-                        let own = zone.map(|_| &result.mesh);
-                        let snap = snapshot(si, time, &u, &solid, &history, own)?;
-                        result.snapshots.push(snap);
-                        break 'schedule;
-                    }
-                    if exhausted {
-                        result.failure = Some(format!(
-                            "segment {si} ({seg:?}): increment to {new_value:.6} {} at t = {:.6} s failed at the smallest increment (1/2^{} of the base; {cutbacks} halvings in this segment): {e}",
-                            if by_load { "nN" } else { "nm" },
-                            t0 + duration * (done + s),
-                            p.solver.max_cutbacks
-                        ));
-                        result.stats.assembly = asm.stats;
-                        result.stats.wall_s = t_start.elapsed().as_secs_f64();
-                        return Err(FeError::Stopped(Box::new(result)));
-                    }
-                }
-            }
-        }
-        let own = zone.map(|_| &result.mesh);
-        let snap = snapshot(si, time, &u, &solid, &history, own)?;
-        result.snapshots.push(snap);
-    }
-    result.stats.assembly = asm.stats;
-    result.stats.wall_s = t_start.elapsed().as_secs_f64();
-    Ok(result)
 }

@@ -21,7 +21,9 @@
 //! - [`events`]: jump-in, jump-out and pull-off from the rows; the contact radius definition.
 //! - [`newton`]: Newton with line search (Params/Info/Error).
 //! - [`arclength`]: Riks arc-length continuation through the folds of the S-curve.
-//! - [`indent`]: the driver, [`run_indent`] on [`IndentParams`] → [`IndentResult`].
+//! - [`indent`]: the problem — [`IndentParams`], the sizes they resolve to, [`IndentResult`].
+//! - `march`: the driver, [`run_indent`] — mesh, then the march along the schedule
+//!   (increments, cutbacks, remeshing) or the arc-length trace.
 //! - [`output`]: CSV, summary, plots and VTU files ([`IndentResult::write`]).
 
 // `!(x > 0.0)` is used on purpose: it also rejects NaN. Index loops mirror the formulas.
@@ -37,13 +39,15 @@ pub mod events;
 pub mod indent;
 pub mod indenter;
 pub mod machine;
+mod march;
 pub mod material;
 pub mod mesh;
 pub mod newton;
 pub mod output;
 pub mod transfer;
 
-pub use indent::{run_indent, IndentParams, IndentResult, Progress, Segment};
+pub use indent::{IndentParams, IndentResult, Progress, Segment};
+pub use march::run_indent;
 
 /// Why a continuum run failed.
 #[derive(Debug, thiserror::Error)]

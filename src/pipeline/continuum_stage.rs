@@ -31,7 +31,7 @@ use crate::scene::machine::Control;
 use crate::scene::material::MaterialModel;
 use crate::scene::schedule::SegmentKind;
 use crate::scene::solver::{Kinematics, Method};
-use crate::scene::{ResolvedScene, Stage};
+use crate::scene::{ResolvedScene, Scene, Stage};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -46,23 +46,51 @@ fn failed(message: String) -> StageError {
 /// The FE parameters of a scene, or the reason they cannot be built.
 pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, StageError> {
     let s = &scene.scene;
-    let adhesion = match &s.adhesion {
-        None => None,
-        Some(a) => {
-            let law = a
-                .surface_law(s.turf.as_ref())
-                .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?;
-            Some(AdhesionParams {
-                law,
-                damping: a.damping.as_ref().map(|d| ContactDamping {
-                    c0: d.c0.0,
-                    gap: d.gap.0,
-                    eta: d.eta.0,
-                }),
-            })
-        }
+    let (schedule, start) = schedule(s)?;
+    let (solver, kinematics) = solver(s);
+    let mut params = IndentParams {
+        indenter: indenter(s)?,
+        material: material(s)?,
+        kinematics,
+        mesh: mesh_params(scene),
+        schedule,
+        contact: ContactParams::default(),
+        solver,
+        start,
+        adhesion: adhesion(s)?,
+        machine: machine(s),
     };
-    let machine = match &s.machine {
+    if let Some(d) = scene.derived.mesh.and_then(|m| m.fine_depth_nm) {
+        // the FE takes the fine zone in units of its own expected contact radius
+        let a = crate::continuum::indent::resolve(&params)
+            .map_err(|e| failed(e.to_string()))?
+            .expected_contact_radius_nm;
+        params.mesh.fine_depth = d / a;
+    }
+    Ok(params)
+}
+
+/// The `[adhesion]` section as the FE's surface law and contact damping.
+fn adhesion(s: &Scene) -> Result<Option<AdhesionParams>, StageError> {
+    let Some(a) = &s.adhesion else {
+        return Ok(None);
+    };
+    let law = a
+        .surface_law(s.turf.as_ref())
+        .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?;
+    Ok(Some(AdhesionParams {
+        law,
+        damping: a.damping.as_ref().map(|d| ContactDamping {
+            c0: d.c0.0,
+            gap: d.gap.0,
+            eta: d.eta.0,
+        }),
+    }))
+}
+
+/// The `[machine]` section as the FE's control.
+fn machine(s: &Scene) -> FeMachine {
+    match &s.machine {
         None => FeMachine::Displacement,
         Some(m) => match (m.control, m.stiffness) {
             // k₁ the support springs in parallel, k₂ the load frame in series (seed eq. 2.4;
@@ -74,12 +102,16 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
             (Control::Displacement, Some(k)) => FeMachine::Spring { stiffness: k.0 },
             (Control::Displacement, None) => FeMachine::Displacement,
         },
-    };
+    }
+}
+
+/// The `[indenter]` section.
+fn indenter(s: &Scene) -> Result<Indenter, StageError> {
     let ind = s
         .indenter
         .as_ref()
         .ok_or_else(|| failed("needs [indenter]".into()))?;
-    let indenter = match ind.shape {
+    Ok(match ind.shape {
         Shape::Sphere => Indenter::Sphere {
             radius: ind.radius.0,
         },
@@ -91,7 +123,12 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
                 .ok_or_else(|| failed("indenter.tip_depth unresolved".into()))?,
             half_angle_deg: BERKOVICH_CONE_HALF_ANGLE_DEG,
         },
-    };
+    })
+}
+
+/// The `[material]` (or its card) and `[viscoelastic]` sections; a card's relaxation applies
+/// when the scene gives none.
+fn material(s: &Scene) -> Result<MaterialParams, StageError> {
     let mat = s
         .material
         .as_ref()
@@ -164,6 +201,11 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
             }
         }
     };
+    Ok(MaterialParams { elastic, prony })
+}
+
+/// The `[schedule]` section: its segments and the indenter's start.
+fn schedule(s: &Scene) -> Result<(Vec<Segment>, f64), StageError> {
     let sched = s
         .schedule
         .as_ref()
@@ -196,6 +238,11 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
             },
         });
     }
+    Ok((schedule, sched.start.0))
+}
+
+/// The `[solver]` section: the FE solver and the kinematics.
+fn solver(s: &Scene) -> (SolverParams, crate::continuum::element::Kinematics) {
     let mut solver = SolverParams::default();
     let mut kinematics = crate::continuum::element::Kinematics::Finite;
     if let Some(sv) = &s.solver {
@@ -213,9 +260,14 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
         solver.newton.max_iterations = sv.max_iterations;
         solver.newton.rtol = sv.tolerance.0;
     }
-    // the plan's mesh sizes (given or derived, as `turf check` prints them) are the ones meshed;
-    // without them (a card: moduli unknown before the run) the given ones, the rest sized by
-    // the engine from the card's initial moduli
+    (solver, kinematics)
+}
+
+/// The mesh: the plan's sizes (given or derived, as `turf check` prints them); without them
+/// (a card: moduli unknown before the run) the given ones, the rest sized by the engine from
+/// the card's initial moduli.
+fn mesh_params(scene: &ResolvedScene) -> MeshParams {
+    let s = &scene.scene;
     let mut mesh = MeshParams::default();
     if let Some(m) = &scene.derived.mesh {
         mesh.width = Some(m.width_nm);
@@ -238,26 +290,7 @@ pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, Stage
             }
         }
     }
-    let mut params = IndentParams {
-        indenter,
-        material: MaterialParams { elastic, prony },
-        kinematics,
-        mesh,
-        schedule,
-        contact: ContactParams::default(),
-        solver,
-        start: sched.start.0,
-        adhesion,
-        machine,
-    };
-    if let Some(d) = scene.derived.mesh.and_then(|m| m.fine_depth_nm) {
-        // the FE takes the fine zone in units of its own expected contact radius
-        let a = crate::continuum::indent::resolve(&params)
-            .map_err(|e| failed(e.to_string()))?
-            .expected_contact_radius_nm;
-        params.mesh.fine_depth = d / a;
-    }
-    Ok(params)
+    mesh
 }
 
 /// The first hold's relaxation and creep and the first loading branch's slope
@@ -336,7 +369,7 @@ pub fn mesh_preview(scene: &ResolvedScene) -> Option<Result<MeshPreview, String>
     Some(preview)
 }
 
-/// The transversely isotropic card (`material_transverse.json`, issue 19) at `path` as the
+/// The transversely isotropic card (`material_transverse.json`) at `path` as the
 /// FE material; `None` for any other card.
 fn transverse_card(path: &std::path::Path) -> Result<Option<Elastic>, StageError> {
     use crate::continuum::material::transverse_foam::{FibreTerm, TransverseFoam};

@@ -1,0 +1,561 @@
+//! The march of an indentation along its schedule (seed chapter 4): each segment is crossed in
+//! increments of the controlled variable (depth, drive or load) and of time, each solved by
+//! Newton ([`super::newton`]) from a predictor that extrapolates the last increment. A failed
+//! increment is halved and retried; a quick one lets the increment grow back. On an unloading
+//! segment under load control, an increment that fails at the smallest size marks the pull-off:
+//! the indenter separates there. With an adaptive mesh ([`MeshParams::adaptive`]) an increment
+//! whose contact edge leaves the band of fine elements is solved again on a mesh whose band
+//! covers it, the state carried over by [`transfer`]; a band wider than the converged state
+//! needs narrows to it. Contact damping, if given, is integrated over each step (except on
+//! load-controlled segments) and its dissipation is reported per row against the strain
+//! energy. The Riks alternative to this march is [`super::arclength`].
+//!
+//! [`MeshParams::adaptive`]: super::indent::MeshParams::adaptive
+
+use super::arclength::Curve;
+use super::assembly::{Assembler, Evaluation, Solid};
+use super::contact::{Contact, Damping, SurfaceLaw};
+use super::element::Kinematics;
+use super::indent::{
+    band_span, build_mesh, new_solid, resolve, snapshot, Adaptation, IndentParams, IndentResult,
+    Method, Progress, Resolved, Row, RunStats, Segment, EDGE_SAFE, MAX_REMESHES_PER_INCREMENT,
+};
+use super::machine::{Drive, Driven, Machine};
+use super::mesh::{self, EdgeZone, Mesh};
+use super::newton;
+use super::transfer;
+use super::FeError;
+use crate::numerics::quadrature::gauss_legendre_unit;
+use std::time::Instant;
+
+/// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished;
+/// so does an interrupt ([`crate::interrupt::requested`], polled after every converged
+/// increment).
+pub fn run_indent(
+    p: &IndentParams,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<IndentResult, FeError> {
+    let t_start = Instant::now();
+    let resolved = resolve(p)?;
+    let mesh = build_mesh(p, &resolved)?;
+    let mesh_s = t_start.elapsed().as_secs_f64();
+    let penalty = resolved.penalty;
+    let law: &dyn SurfaceLaw = match &p.adhesion {
+        Some(a) => &a.law,
+        None => &penalty,
+    };
+    let mut run = March::new(p, resolved, mesh, mesh_s, law)?;
+    let stop = match p.solver.method {
+        Method::Riks => run.trace(progress),
+        Method::Newton => run.schedule(progress)?,
+    };
+    run.finish(stop, t_start.elapsed().as_secs_f64())
+}
+
+/// A run under way: the mesh, the solid and its state, the machine's state and the result so
+/// far.
+pub(super) struct March<'a> {
+    p: &'a IndentParams,
+    solid: Solid,
+    asm: Assembler,
+    /// the surface (for profiles and the pattern); each step adds its damping to a copy
+    contact: Contact<'a>,
+    /// smallest reference force of the residual test, nN
+    force_floor: f64,
+    /// the band of the current adaptive mesh (None: a fixed mesh)
+    zone: Option<EdgeZone>,
+    /// the band the next increment is to be solved with, when it differs from `zone`
+    pending: Option<EdgeZone>,
+    /// the radii the band must cover at the last converged state
+    span: (f64, f64),
+    /// the unknowns of the last two converged increments (nodal displacements, then δ)
+    u: Vec<f64>,
+    u_prev: Vec<f64>,
+    /// Prony history of the last converged increment
+    history: Vec<f64>,
+    /// gaps at the surface quadrature points of the last converged state (damping's gₙ)
+    gaps: Vec<f64>,
+    /// change of the controlled variable over the last converged increment (0: none to
+    /// extrapolate)
+    last_dv: f64,
+    time: f64,
+    /// the machine's drive and controlled load at the last converged state
+    drive: f64,
+    load: f64,
+    /// energy dissipated by contact damping, aJ
+    dissipated: f64,
+    pub(super) result: IndentResult,
+}
+
+/// How a schedule segment ended.
+enum SegmentEnd {
+    /// at its target
+    Done,
+    /// under load control, unloading past the last equilibrium: the indenter separated
+    Separated,
+    /// the run cannot go on (the reason)
+    Stopped(String),
+}
+
+/// One increment to solve.
+struct Step {
+    /// what it prescribes
+    mode: Drive,
+    /// change of the controlled variable
+    dv: f64,
+    /// time step, s
+    dt: f64,
+    /// the load controls (no contact damping)
+    by_load: bool,
+}
+
+/// What solving an increment gave.
+enum Increment {
+    /// converged at `x`
+    Converged {
+        x: Vec<f64>,
+        iterations: usize,
+        ev: Evaluation,
+    },
+    /// converged, with the contact edge outside the band: to be solved again on the pending
+    /// mesh
+    Remesh,
+    /// no equilibrium (why)
+    Failed(String),
+}
+
+impl<'a> March<'a> {
+    /// The initial state of a run on `mesh`: the indenter at `p.start`, nothing deformed.
+    pub(super) fn new(
+        p: &'a IndentParams,
+        resolved: Resolved,
+        mesh: Mesh,
+        mesh_s: f64,
+        law: &'a dyn SurfaceLaw,
+    ) -> Result<Self, FeError> {
+        let solid = new_solid(p, &mesh)?;
+        let contact = Contact {
+            segments: Contact::segments_of(&mesh),
+            indenter: p.indenter,
+            law,
+            quadrature: gauss_legendre_unit(p.contact.quadrature_points),
+            damping: None,
+        };
+        let mut asm = Assembler::new(&solid, Some(&contact))?;
+        let a = resolved.expected_contact_radius_nm;
+        // the forces in play are at least the elastic scale at the contact and, with adhesion,
+        // the DMT pull-off 2πγR (the largest adhesive load): the residual tolerance is
+        // relative to them
+        let adhesive_force = p.adhesion.as_ref().map_or(0.0, |ad| {
+            2.0 * std::f64::consts::PI * ad.law.gamma() * p.indenter.radius()
+        });
+        let force_floor = (1e-6 * resolved.reduced_modulus_GPa * a * a).max(adhesive_force);
+        let small = p.kinematics == Kinematics::Small;
+        let ndof = solid.dofs();
+        let mut u = vec![0.0; ndof + 1];
+        u[ndof] = p.start;
+        let profile0 = contact.profile(&current(&solid, &u), &solid.nodes, p.start, small);
+        let gaps: Vec<f64> = profile0.iter().map(|q| q.gap).collect();
+        let span = band_span(&contact, &profile0);
+        let history = vec![0.0; solid.history_len() * solid.elements.len()];
+        let ev0 = asm.evaluate(
+            &solid,
+            Some(&contact),
+            (&u[..ndof], &history),
+            0.0,
+            p.start,
+            false,
+        )?;
+        let zone = resolved.edge_zone;
+        let result = IndentResult {
+            params: p.clone(),
+            resolved,
+            mesh_report: mesh.report(),
+            adaptation: zone
+                .iter()
+                .map(|z| Adaptation {
+                    increment: 0,
+                    time_s: 0.0,
+                    inner_nm: z.inner,
+                    outer_nm: z.outer,
+                    elements: mesh.triangles.len(),
+                })
+                .collect(),
+            mesh,
+            rows: vec![Row {
+                time_s: 0.0,
+                depth_nm: p.start,
+                load_nN: ev0.load,
+                contact_radius_nm: 0.0,
+                iterations: 0,
+                drive_nm: p.start,
+                gap_nm: gaps.first().copied().unwrap_or(0.0),
+                strain_energy_aJ: 0.0,
+                damping_dissipated_aJ: 0.0,
+                segment: 0,
+            }],
+            snapshots: Vec::new(),
+            stats: RunStats {
+                mesh_s,
+                ..RunStats::default()
+            },
+            failure: None,
+            separated_nN: None,
+        };
+        Ok(March {
+            p,
+            solid,
+            asm,
+            contact,
+            force_floor,
+            zone,
+            pending: None,
+            span,
+            u_prev: u.clone(),
+            u,
+            history,
+            gaps,
+            last_dv: 0.0,
+            time: 0.0,
+            drive: p.start,
+            load: p.machine.applied_load(ev0.load, p.start),
+            dissipated: 0.0,
+            result,
+        })
+    }
+
+    /// Follow the equilibrium path by arc length instead ([`Curve::trace`]); the reason it
+    /// stopped early, if it did.
+    pub(super) fn trace(&mut self, progress: &mut dyn FnMut(&Progress)) -> Option<String> {
+        let mut curve = Curve {
+            asm: &mut self.asm,
+            solid: &self.solid,
+            contact: &self.contact,
+            force_floor: self.force_floor,
+            newton: self.p.solver.newton,
+            contraction: self.p.solver.arclength.contraction,
+        };
+        curve
+            .trace(self.p, self.u.clone(), &mut self.result, progress)
+            .err()
+    }
+
+    /// March through the schedule, a snapshot at the end of each segment; the reason the run
+    /// stopped early, if it did.
+    pub(super) fn schedule(
+        &mut self,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<Option<String>, FeError> {
+        for (si, seg) in self.p.schedule.iter().enumerate() {
+            let end = self.segment(si, seg, progress)?;
+            if let SegmentEnd::Stopped(why) = end {
+                return Ok(Some(why));
+            }
+            let own = self.zone.map(|_| &self.result.mesh);
+            let snap = snapshot(si, self.time, &self.u, &self.solid, &self.history, own)?;
+            self.result.snapshots.push(snap);
+            if let SegmentEnd::Separated = end {
+                break;
+            }
+        }
+        Ok(None)
+    }
+
+    /// The result, with what the run cost; [`FeError::Stopped`] with it if it stopped early.
+    pub(super) fn finish(
+        mut self,
+        stop: Option<String>,
+        wall_s: f64,
+    ) -> Result<IndentResult, FeError> {
+        self.result.stats.assembly = self.asm.stats;
+        self.result.stats.wall_s = wall_s;
+        match stop {
+            None => Ok(self.result),
+            Some(why) => {
+                self.result.failure = Some(why);
+                Err(FeError::Stopped(Box::new(self.result)))
+            }
+        }
+    }
+
+    /// Cross segment `si` of the schedule.
+    fn segment(
+        &mut self,
+        si: usize,
+        seg: &Segment,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<SegmentEnd, FeError> {
+        let p = self.p;
+        let (v0, target, duration, by_load) = segment_span(seg, p.machine, self.drive, self.load);
+        let base = 1.0 / p.solver.increments.max(1) as f64;
+        let t0 = self.time;
+        let mut value = v0;
+        let (mut done, mut step, mut cutbacks) = (0.0f64, base, 0usize);
+        let mut remeshes = 0usize;
+        while done < 1.0 - 1e-12 {
+            if let Some(z) = self.pending.take() {
+                self.remesh(z)?;
+            }
+            let s = step.min(1.0 - done);
+            let new_value = v0 + (target - v0) * (done + s);
+            let inc = Step {
+                mode: p.machine.drive(by_load, new_value),
+                dv: new_value - value,
+                dt: duration * s,
+                by_load,
+            };
+            match self.increment(&inc, remeshes < MAX_REMESHES_PER_INCREMENT)? {
+                Increment::Remesh => remeshes += 1,
+                Increment::Converged { x, iterations, ev } => {
+                    value = new_value;
+                    done += s;
+                    self.time = t0 + duration * done;
+                    self.commit(si, &inc, x, iterations, &ev, progress)?;
+                    remeshes = 0;
+                    if crate::interrupt::requested() {
+                        return Ok(SegmentEnd::Stopped(crate::interrupt::REASON.into()));
+                    }
+                    if iterations <= p.solver.quick_iterations {
+                        step = (step * p.solver.growth).min(base);
+                    }
+                }
+                Increment::Failed(e) => {
+                    cutbacks += 1;
+                    self.result.stats.cutbacks += 1;
+                    step *= 0.5;
+                    self.last_dv = 0.0;
+                    // `max_cutbacks` bounds how small an increment may get: base / 2^max. A
+                    // count of the halvings over the whole segment would fail a long segment
+                    // with a few recovered cutbacks (a contact edge sweeping over surface
+                    // nodes) at an increment halved once (hyperfoam_indent.toml,
+                    // docs/validation-continuum.md); a count reset at each converged increment
+                    // would let a load-controlled retraction creep towards the pull-off fold
+                    // in ever smaller converged steps without end
+                    let exhausted = step < base * 0.5f64.powi(p.solver.max_cutbacks as i32);
+                    if exhausted && by_load && target < v0 {
+                        // the specimen's force at the last equilibrium (= the controlled
+                        // load P̂ without transducer springs)
+                        self.result.separated_nN = self.result.rows.last().map(|r| r.load_nN);
+                        return Ok(SegmentEnd::Separated);
+                    }
+                    if exhausted {
+                        return Ok(SegmentEnd::Stopped(format!(
+                            "segment {si} ({seg:?}): increment to {new_value:.6} {} at t = {:.6} s failed at the smallest increment (1/2^{} of the base; {cutbacks} halvings in this segment): {e}",
+                            if by_load { "nN" } else { "nm" },
+                            t0 + duration * (done + s),
+                            p.solver.max_cutbacks
+                        )));
+                    }
+                }
+            }
+        }
+        Ok(SegmentEnd::Done)
+    }
+
+    /// Solve one increment from the predictor. With an adaptive mesh (and `may_remesh`), a
+    /// converged state whose contact edge left the band is not taken: the band that spans it
+    /// and the last converged one is made pending.
+    fn increment(&mut self, inc: &Step, may_remesh: bool) -> Result<Increment, FeError> {
+        let p = self.p;
+        let ndof = self.solid.dofs();
+        // predictor: extrapolate the last increment's change of (u, δ)
+        let mut x = self.u.clone();
+        if self.last_dv != 0.0 && inc.dv * self.last_dv > 0.0 {
+            let ratio = inc.dv / self.last_dv;
+            for ((xi, ui), pi) in x.iter_mut().zip(&self.u).zip(&self.u_prev) {
+                *xi += ratio * (ui - pi);
+            }
+        }
+        if let Drive::Depth(d) = inc.mode {
+            x[ndof] = d;
+        }
+        let damping_law = p.adhesion.as_ref().and_then(|a| a.damping);
+        let step_contact = Contact {
+            segments: self.contact.segments.clone(),
+            quadrature: self.contact.quadrature.clone(),
+            // not on load-controlled segments: a damped step can hold a load beyond the static
+            // limit (the viscous force making up the difference), so the separation load would
+            // depend on c₀
+            damping: damping_law.filter(|_| !inc.by_load).map(|law| Damping {
+                law,
+                previous: &self.gaps,
+                dt: inc.dt,
+            }),
+            ..self.contact
+        };
+        let mut sys = Driven {
+            asm: &mut self.asm,
+            solid: &self.solid,
+            contact: Some(&step_contact),
+            history: &self.history,
+            dt: inc.dt,
+            drive: inc.mode,
+            force_floor: self.force_floor,
+        };
+        let solved = newton::solve(&mut sys, &mut x, &p.solver.newton)
+            .map_err(|e| e.to_string())
+            .and_then(|info| p.indenter.check_depth(x[ndof]).map(|()| info));
+        let info = match solved {
+            Ok(info) => info,
+            Err(e) => return Ok(Increment::Failed(e)),
+        };
+        if let Some(z) = &self.zone {
+            let small = p.kinematics == Kinematics::Small;
+            let trial =
+                self.contact
+                    .profile(&current(&self.solid, &x), &self.solid.nodes, x[ndof], small);
+            let (lo, hi) = band_span(&self.contact, &trial);
+            let reach = EDGE_SAFE * z.half_width;
+            if (lo < z.inner - reach || hi > z.outer + reach) && may_remesh {
+                self.pending = Some(EdgeZone {
+                    inner: lo.min(self.span.0),
+                    outer: hi.max(self.span.1),
+                    ..*z
+                });
+                return Ok(Increment::Remesh);
+            }
+        }
+        let ev = sys.evaluation(&x, false)?;
+        Ok(Increment::Converged {
+            x,
+            iterations: info.iterations,
+            ev,
+        })
+    }
+
+    /// Take the converged state `x` of increment `inc` (at `self.time`): commit the history,
+    /// move the machine, record the row, and narrow the band if the state needs less of it.
+    fn commit(
+        &mut self,
+        si: usize,
+        inc: &Step,
+        x: Vec<f64>,
+        iterations: usize,
+        ev: &Evaluation,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<(), FeError> {
+        let p = self.p;
+        let ndof = self.solid.dofs();
+        let depth = x[ndof];
+        self.solid.commit(&x[..ndof], &mut self.history, inc.dt)?;
+        self.u_prev = std::mem::replace(&mut self.u, x);
+        self.last_dv = inc.dv;
+        self.dissipated += 2.0 * ev.damping_energy;
+        let small = p.kinematics == Kinematics::Small;
+        let profile = self.contact.profile(
+            &current(&self.solid, &self.u),
+            &self.solid.nodes,
+            depth,
+            small,
+        );
+        self.gaps.clear();
+        self.gaps.extend(profile.iter().map(|q| q.gap));
+        self.drive = inc.mode.position(depth, ev.load);
+        // the controlled force: P̂ = Q except through the transducer's springs
+        self.load = p.machine.applied_load(ev.load, depth);
+        let row = Row {
+            time_s: self.time,
+            depth_nm: depth,
+            load_nN: ev.load,
+            contact_radius_nm: self.contact.contact_radius(&profile),
+            iterations,
+            drive_nm: self.drive,
+            gap_nm: self.gaps.first().copied().unwrap_or(0.0),
+            strain_energy_aJ: ev.strain_energy,
+            damping_dissipated_aJ: self.dissipated,
+            segment: si,
+        };
+        self.result.rows.push(row);
+        self.result.stats.increments += 1;
+        self.result.stats.newton_iterations += iterations;
+        progress(&Progress {
+            segment: si,
+            segments: p.schedule.len(),
+            row,
+            elements: self.solid.elements.len(),
+        });
+        // a band wider than the converged state needs (after a jump, or as the contact
+        // shrinks) narrows to it
+        self.span = band_span(&self.contact, &profile);
+        if let Some(z) = &self.zone {
+            let reach = 2.0 * EDGE_SAFE * z.half_width;
+            if self.span.0 > z.inner + reach || self.span.1 < z.outer - reach {
+                self.pending = Some(EdgeZone {
+                    inner: self.span.0,
+                    outer: self.span.1,
+                    ..*z
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Move the run onto the mesh of `zone` ([`mesh::edge_block`]): the state carried over by
+    /// [`transfer`], the solid and the contact surface rebuilt, the mesh recorded in
+    /// `result.adaptation`, the gaps of the carried state taken as the damping's start-of-step
+    /// gaps.
+    fn remesh(&mut self, zone: EdgeZone) -> Result<(), FeError> {
+        let p = self.p;
+        let new_mesh = mesh::edge_block(&self.result.resolved.block, &zone)?;
+        let old = &self.result.mesh;
+        let n = self.solid.dofs();
+        let carry = |x: &[f64]| {
+            let mut y = transfer::interpolate_nodal(old, &x[..n], 2, &new_mesh);
+            y.push(x[n]);
+            y
+        };
+        self.u = carry(&self.u);
+        self.u_prev = carry(&self.u_prev);
+        self.history =
+            transfer::project_elementwise(old, &self.history, self.solid.history_len(), &new_mesh);
+        self.solid = new_solid(p, &new_mesh)?;
+        self.contact.segments = Contact::segments_of(&new_mesh);
+        let stats = self.asm.stats;
+        self.asm = Assembler::new(&self.solid, Some(&self.contact))?;
+        self.asm.stats = stats;
+        let n = self.solid.dofs();
+        let small = p.kinematics == Kinematics::Small;
+        let profile = self.contact.profile(
+            &current(&self.solid, &self.u),
+            &self.solid.nodes,
+            self.u[n],
+            small,
+        );
+        self.gaps = profile.iter().map(|q| q.gap).collect();
+        self.result.adaptation.push(Adaptation {
+            increment: self.result.stats.increments,
+            time_s: self.time,
+            inner_nm: zone.inner,
+            outer_nm: zone.outer,
+            elements: new_mesh.triangles.len(),
+        });
+        self.result.mesh_report = new_mesh.report();
+        self.result.mesh = new_mesh;
+        self.last_dv = 0.0;
+        self.zone = Some(zone);
+        Ok(())
+    }
+}
+
+/// The controlled variable at the start of a segment and its target: (value, target,
+/// duration, by load).
+fn segment_span(seg: &Segment, machine: Machine, drive: f64, load: f64) -> (f64, f64, f64, bool) {
+    let by_load = machine.load_controlled() && !matches!(seg, Segment::Approach { .. });
+    let now = if by_load { load } else { drive };
+    match *seg {
+        Segment::Load { to, rate }
+        | Segment::Unload { to, rate }
+        | Segment::Approach { to, rate } => (now, to, (to - now).abs() / rate, by_load),
+        Segment::Hold { time } => (now, now, time, by_load),
+    }
+}
+
+/// Current node positions X + u.
+fn current(solid: &Solid, u: &[f64]) -> Vec<[f64; 2]> {
+    solid
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
+        .collect()
+}
