@@ -432,55 +432,8 @@ pub struct Resolved {
 
 /// Resolve the derived sizes (and validate the parameters).
 pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
-    p.indenter.validate().map_err(FeError::Params)?;
-    p.material.elastic.validate()?;
-    validate_prony(&p.material.prony)?;
-    p.machine.validate().map_err(FeError::Params)?;
-    if let Some(a) = &p.adhesion {
-        a.validate().map_err(FeError::Params)?;
-    }
-    if p.solver.method == Method::Riks {
-        if !p.material.prony.is_empty() {
-            return Err(FeError::Params(
-                "arc-length continuation traces an elastic curve: Prony relaxation needs the Newton method".into(),
-            ));
-        }
-        if p.adhesion.as_ref().is_some_and(|a| a.damping.is_some()) {
-            return Err(FeError::Params(
-                "arc-length continuation passes the folds without contact damping: remove the damping".into(),
-            ));
-        }
-    }
-    if !p.start.is_finite() {
-        return Err(FeError::Params(format!("start depth {} nm", p.start)));
-    }
-    let (mut depth, mut load) = (p.start, 0.0f64);
-    let (mut max_depth, mut max_load) = (p.start, 0.0f64);
-    for s in &p.schedule {
-        let by_load = p.machine.load_controlled() && !matches!(s, Segment::Approach { .. });
-        match *s {
-            Segment::Load { to, rate }
-            | Segment::Unload { to, rate }
-            | Segment::Approach { to, rate } => {
-                let now = if by_load { &mut load } else { &mut depth };
-                if !(rate > 0.0 && to.is_finite() && to != *now) {
-                    return Err(FeError::Params(format!(
-                        "schedule segment {s:?}: rate must be positive, the target finite and different from the current {now}"
-                    )));
-                }
-                *now = to;
-            }
-            Segment::Hold { time } => {
-                if !(time > 0.0 && time.is_finite()) {
-                    return Err(FeError::Params(format!(
-                        "hold time must be positive, got {time} s"
-                    )));
-                }
-            }
-        }
-        max_depth = max_depth.max(depth);
-        max_load = max_load.max(load);
-    }
+    validate(p)?;
+    let (mut max_depth, max_load) = schedule_reach(p)?;
     let (e, nu) = p.material.elastic.initial_moduli();
     let e_star = e / (1.0 - nu * nu);
     let r = p.indenter.radius();
@@ -528,41 +481,8 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
         grading: m.grading,
         max_elements: m.max_elements,
     };
-    let adaptive = match m.adaptive {
-        None | Some(false) => false,
-        Some(true) => {
-            let why = if p.adhesion.is_none() {
-                Some("without adhesion (no contact edge to follow)")
-            } else if p.solver.method == Method::Riks {
-                Some("with arc-length continuation (solver.method = riks)")
-            } else if m.gmsh_file.is_some() {
-                Some("with a Gmsh mesh")
-            } else {
-                None
-            };
-            if let Some(why) = why {
-                return Err(FeError::Params(format!(
-                    "mesh.adaptive = true is not available {why}: set it to false or remove it"
-                )));
-            }
-            true
-        }
-    };
-    let edge_zone = match (adaptive, process_zone) {
-        (true, Some(ell)) => {
-            if !(m.edge_zone > 0.0 && m.edge_zone.is_finite()) {
-                return Err(FeError::Params(format!(
-                    "mesh.edge_zone must be a positive number of process zones, got {}",
-                    m.edge_zone
-                )));
-            }
-            Some(EdgeZone {
-                inner: 0.0,
-                outer: 0.0,
-                half_width: m.edge_zone * ell,
-                surface: smallest.max(a / m.elements_per_radius),
-            })
-        }
+    let edge_zone = match (adaptive(p)?, process_zone) {
+        (true, Some(ell)) => Some(edge_zone(m, ell, smallest.max(a / m.elements_per_radius))?),
         _ => None,
     };
     let c = &p.contact;
@@ -591,6 +511,109 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
             .as_ref()
             .and_then(|ad| ad.tabor(p.indenter.radius(), e_star).ok()),
         edge_zone,
+    })
+}
+
+/// Check what the sizes do not: the parts' own parameters and the combinations the solvers
+/// cannot run.
+fn validate(p: &IndentParams) -> Result<(), FeError> {
+    p.indenter.validate().map_err(FeError::Params)?;
+    p.material.elastic.validate()?;
+    validate_prony(&p.material.prony)?;
+    p.machine.validate().map_err(FeError::Params)?;
+    if let Some(a) = &p.adhesion {
+        a.validate().map_err(FeError::Params)?;
+    }
+    if p.solver.method == Method::Riks {
+        if !p.material.prony.is_empty() {
+            return Err(FeError::Params(
+                "arc-length continuation traces an elastic curve: Prony relaxation needs the Newton method".into(),
+            ));
+        }
+        if p.adhesion.as_ref().is_some_and(|a| a.damping.is_some()) {
+            return Err(FeError::Params(
+                "arc-length continuation passes the folds without contact damping: remove the damping".into(),
+            ));
+        }
+    }
+    if !p.start.is_finite() {
+        return Err(FeError::Params(format!("start depth {} nm", p.start)));
+    }
+    Ok(())
+}
+
+/// The deepest depth and the largest load the schedule drives to (each 0 if never driven),
+/// checking its segments.
+fn schedule_reach(p: &IndentParams) -> Result<(f64, f64), FeError> {
+    let (mut depth, mut load) = (p.start, 0.0f64);
+    let (mut max_depth, mut max_load) = (p.start, 0.0f64);
+    for s in &p.schedule {
+        let by_load = p.machine.load_controlled() && !matches!(s, Segment::Approach { .. });
+        match *s {
+            Segment::Load { to, rate }
+            | Segment::Unload { to, rate }
+            | Segment::Approach { to, rate } => {
+                let now = if by_load { &mut load } else { &mut depth };
+                if !(rate > 0.0 && to.is_finite() && to != *now) {
+                    return Err(FeError::Params(format!(
+                        "schedule segment {s:?}: rate must be positive, the target finite and different from the current {now}"
+                    )));
+                }
+                *now = to;
+            }
+            Segment::Hold { time } => {
+                if !(time > 0.0 && time.is_finite()) {
+                    return Err(FeError::Params(format!(
+                        "hold time must be positive, got {time} s"
+                    )));
+                }
+            }
+        }
+        max_depth = max_depth.max(depth);
+        max_load = max_load.max(load);
+    }
+    Ok((max_depth, max_load))
+}
+
+/// Whether the mesh follows the contact edge (`mesh.adaptive`), refused where there is no edge
+/// to follow or the run cannot remesh.
+fn adaptive(p: &IndentParams) -> Result<bool, FeError> {
+    Ok(match p.mesh.adaptive {
+        None | Some(false) => false,
+        Some(true) => {
+            let why = if p.adhesion.is_none() {
+                Some("without adhesion (no contact edge to follow)")
+            } else if p.solver.method == Method::Riks {
+                Some("with arc-length continuation (solver.method = riks)")
+            } else if p.mesh.gmsh_file.is_some() {
+                Some("with a Gmsh mesh")
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                return Err(FeError::Params(format!(
+                    "mesh.adaptive = true is not available {why}: set it to false or remove it"
+                )));
+            }
+            true
+        }
+    })
+}
+
+/// The band of fine elements around the contact edge: `mesh.edge_zone` process zones `ell`
+/// either side, surface elements over the contact no larger than `surface` (nm).
+fn edge_zone(m: &MeshParams, ell: f64, surface: f64) -> Result<EdgeZone, FeError> {
+    if !(m.edge_zone > 0.0 && m.edge_zone.is_finite()) {
+        return Err(FeError::Params(format!(
+            "mesh.edge_zone must be a positive number of process zones, got {}",
+            m.edge_zone
+        )));
+    }
+    Ok(EdgeZone {
+        inner: 0.0,
+        outer: 0.0,
+        half_width: m.edge_zone * ell,
+        surface,
     })
 }
 

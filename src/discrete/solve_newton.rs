@@ -73,55 +73,88 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
     x: &mut [f64],
     params: &NewtonParams,
 ) -> Result<Info, SolveError> {
-    let mut ev = Evaluator::new(model, fixed, x)?;
-    let n = x.len();
     let free = fixed.free_dofs();
-    let mut index = vec![usize::MAX; n];
-    for (k, &d) in free.iter().enumerate() {
-        index[d] = k;
+    let mut d = Descent::new(model, fixed, &free, params, x)?;
+    let mut index = vec![usize::MAX; x.len()];
+    for (k, &dof) in free.iter().enumerate() {
+        index[dof] = k;
     }
-    let mut grad = vec![0.0; n];
-    let mut energy = ev.eval(x, &mut grad)?;
-    let mut residual = fixed.residual(&grad);
-    let tol = tolerance(params.tol_abs, params.tol_rel, residual);
-    let mut history = vec![residual];
+    let tol = tolerance(params.tol_abs, params.tol_rel, d.residual);
+    let mut history = vec![d.residual];
     let mut hessian = FreeHessian::new(&index, free.len());
-    let mut shift_prev = 0.0;
-    let mut shift_memory = 0.0;
+    let mut shift = Shift::default();
     let mut trip = Vec::new();
-    let mut trial = x.to_vec();
-    let mut grad_trial = vec![0.0; n];
-
-    while residual > tol {
-        if ev.cost.iterations >= params.max_iterations {
+    while d.residual > tol {
+        if d.ev.cost.iterations >= params.max_iterations {
             return Err(SolveError::NoConvergence {
-                residual,
+                residual: d.residual,
                 tolerance: tol,
-                cost: ev.finish(),
+                cost: d.ev.finish(),
             });
         }
-        ev.cost.iterations += 1;
+        d.ev.cost.iterations += 1;
         trip.clear();
-        ev.model.hessian(x, &mut trip);
-        ev.cost.hessian_evaluations += 1;
+        d.ev.model.hessian(x, &mut trip);
+        d.ev.cost.hessian_evaluations += 1;
         hessian.load(&trip)?;
-        let diag_max = hessian.diag_max;
-        let rhs: Vec<f64> = free.iter().map(|&d| -grad[d]).collect();
-        let floor = params.shift_start * diag_max;
-        let mut shift = if shift_prev / params.shift_growth >= floor {
-            shift_prev / params.shift_growth
+        let rhs: Vec<f64> = free.iter().map(|&dof| -d.grad[dof]).collect();
+        let step = shift.solve(&mut hessian, &rhs, params, &mut d.ev.cost.factorizations)?;
+        let Some(alpha) = d.line_search(x, &step)? else {
+            return Err(SolveError::LineSearch {
+                residual: d.residual,
+                cost: d.ev.finish(),
+            });
+        };
+        // Past an instability the shift limits the step along the soft directions to about
+        // |g|/μ, and the energy keeps falling well beyond it: double the step while it does.
+        if alpha == 1.0 && shift.prev > 0.0 {
+            d.expand(x, &step);
+        }
+        history.push(d.residual);
+    }
+    Ok(Info {
+        energy: d.energy,
+        residual: d.residual,
+        tolerance: tol,
+        history,
+        cost: d.ev.finish(),
+    })
+}
+
+/// The shift μ of H + μI across iterations.
+#[derive(Default)]
+struct Shift {
+    /// the last iteration's
+    prev: f64,
+    /// the last nonzero one
+    memory: f64,
+}
+
+impl Shift {
+    /// The step p of (H + μI) p = `rhs` with the first shift that factors (counted in
+    /// `factorizations`).
+    fn solve(
+        &mut self,
+        hessian: &mut FreeHessian,
+        rhs: &[f64],
+        params: &NewtonParams,
+        factorizations: &mut usize,
+    ) -> Result<Vec<f64>, SolveError> {
+        let floor = params.shift_start * hessian.diag_max;
+        let mut shift = if self.prev / params.shift_growth >= floor {
+            self.prev / params.shift_growth
         } else {
             0.0
         };
         let mut attempts = 0;
         let step = loop {
-            ev.cost.factorizations += 1;
-            match hessian.solve_shifted(shift, &rhs) {
+            *factorizations += 1;
+            match hessian.solve_shifted(shift, rhs) {
                 Ok(p) => break p,
                 Err(SparseError::NotPositiveDefinite) if attempts < params.max_shifts => {
                     attempts += 1;
                     shift = if shift == 0.0 {
-                        floor.max(shift_memory / params.shift_growth)
+                        floor.max(self.memory / params.shift_growth)
                     } else {
                         shift * params.shift_growth
                     };
@@ -129,23 +162,67 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
                 Err(e) => return Err(e.into()),
             }
         };
-        shift_prev = shift;
+        self.prev = shift;
         if shift > 0.0 {
-            shift_memory = shift;
+            self.memory = shift;
         }
+        Ok(step)
+    }
+}
 
-        // backtracking line search
-        let slope: f64 = free.iter().zip(&step).map(|(&d, p)| grad[d] * p).sum();
-        let scale: f64 = free.iter().map(|&d| (grad[d] * x[d]).abs()).sum();
+/// The iterate's energy, gradient and residual, with the evaluator and the line search's
+/// scratch space.
+struct Descent<'a, E: EnergyTerm + ?Sized> {
+    ev: Evaluator<'a, E>,
+    fixed: &'a FixedDofs,
+    free: &'a [usize],
+    params: &'a NewtonParams,
+    grad: Vec<f64>,
+    energy: f64,
+    residual: f64,
+    trial: Vec<f64>,
+    grad_trial: Vec<f64>,
+}
+
+impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
+    fn new(
+        model: &'a mut E,
+        fixed: &'a FixedDofs,
+        free: &'a [usize],
+        params: &'a NewtonParams,
+        x: &[f64],
+    ) -> Result<Self, SolveError> {
+        let mut ev = Evaluator::new(model, fixed, x)?;
+        let mut grad = vec![0.0; x.len()];
+        let energy = ev.eval(x, &mut grad)?;
+        let residual = fixed.residual(&grad);
+        Ok(Descent {
+            ev,
+            fixed,
+            free,
+            params,
+            grad,
+            energy,
+            residual,
+            trial: x.to_vec(),
+            grad_trial: vec![0.0; x.len()],
+        })
+    }
+
+    /// Backtracking from α = 1 along `step`: the α taken (x moved there), None if every
+    /// halving failed.
+    fn line_search(&mut self, x: &mut [f64], step: &[f64]) -> Result<Option<f64>, SolveError> {
+        let free = self.free;
+        let slope: f64 = free.iter().zip(step).map(|(&d, p)| self.grad[d] * p).sum();
+        let scale: f64 = free.iter().map(|&d| (self.grad[d] * x[d]).abs()).sum();
         let mut alpha = 1.0;
-        let mut accepted = false;
-        for _ in 0..=params.max_backtracks {
-            trial.copy_from_slice(x);
-            for (&d, p) in free.iter().zip(&step) {
-                trial[d] += alpha * p;
+        for _ in 0..=self.params.max_backtracks {
+            self.trial.copy_from_slice(x);
+            for (&d, p) in free.iter().zip(step) {
+                self.trial[d] += alpha * p;
             }
             // a trial point may be unphysical (a folded vertex): treat as a failed trial
-            let e_trial = match ev.eval(&trial, &mut grad_trial) {
+            let e_trial = match self.ev.eval(&self.trial, &mut self.grad_trial) {
                 Ok(e) => e,
                 Err(SolveError::NonFinite { .. }) => {
                     alpha *= 0.5;
@@ -153,57 +230,47 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
                 }
                 Err(e) => return Err(e),
             };
-            let r_trial = fixed.residual(&grad_trial);
-            let noise = ENERGY_NOISE * (energy.abs().max(e_trial.abs()) + scale);
-            let armijo = e_trial <= energy + params.armijo * alpha * slope;
-            let flat = (e_trial - energy).abs() <= noise && r_trial < residual;
+            let r_trial = self.fixed.residual(&self.grad_trial);
+            let noise = ENERGY_NOISE * (self.energy.abs().max(e_trial.abs()) + scale);
+            let armijo = e_trial <= self.energy + self.params.armijo * alpha * slope;
+            let flat = (e_trial - self.energy).abs() <= noise && r_trial < self.residual;
             if armijo || flat {
-                x.copy_from_slice(&trial);
-                std::mem::swap(&mut grad, &mut grad_trial);
-                energy = e_trial;
-                residual = r_trial;
-                accepted = true;
-                break;
+                self.take(x, e_trial);
+                return Ok(Some(alpha));
             }
             alpha *= 0.5;
         }
-        // Past an instability the shift limits the step along the soft directions to about
-        // |g|/μ, and the energy keeps falling well beyond it: double the step while it does.
-        if accepted && alpha == 1.0 && shift > 0.0 {
-            let mut expand = 2.0;
-            while expand <= MAX_EXPANSION {
-                for (&d, p) in free.iter().zip(&step) {
-                    trial[d] = x[d] + (expand - alpha) * p;
-                }
-                let Ok(e_trial) = ev.eval(&trial, &mut grad_trial) else {
-                    break;
-                };
-                if e_trial >= energy {
-                    break;
-                }
-                x.copy_from_slice(&trial);
-                std::mem::swap(&mut grad, &mut grad_trial);
-                energy = e_trial;
-                residual = fixed.residual(&grad);
-                alpha = expand;
-                expand *= 2.0;
-            }
-        }
-        if !accepted {
-            return Err(SolveError::LineSearch {
-                residual,
-                cost: ev.finish(),
-            });
-        }
-        history.push(residual);
+        Ok(None)
     }
-    Ok(Info {
-        energy,
-        residual,
-        tolerance: tol,
-        history,
-        cost: ev.finish(),
-    })
+
+    /// From the full step taken, double it while the energy keeps falling (up to
+    /// [`MAX_EXPANSION`] times the step).
+    fn expand(&mut self, x: &mut [f64], step: &[f64]) {
+        let mut alpha = 1.0;
+        let mut expand = 2.0;
+        while expand <= MAX_EXPANSION {
+            for (&d, p) in self.free.iter().zip(step) {
+                self.trial[d] = x[d] + (expand - alpha) * p;
+            }
+            let Ok(e_trial) = self.ev.eval(&self.trial, &mut self.grad_trial) else {
+                break;
+            };
+            if e_trial >= self.energy {
+                break;
+            }
+            self.take(x, e_trial);
+            alpha = expand;
+            expand *= 2.0;
+        }
+    }
+
+    /// Move to the trial point, of energy `e_trial`.
+    fn take(&mut self, x: &mut [f64], e_trial: f64) {
+        x.copy_from_slice(&self.trial);
+        std::mem::swap(&mut self.grad, &mut self.grad_trial);
+        self.energy = e_trial;
+        self.residual = self.fixed.residual(&self.grad);
+    }
 }
 
 /// The Hessian over the free coordinates as a sparse system: its lower triangle, then a

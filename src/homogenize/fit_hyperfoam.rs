@@ -357,6 +357,102 @@ pub fn fit_hyperfoam(
     params: &HyperfoamFitParams,
 ) -> Result<HyperfoamFit, FitError> {
     let n = params.terms;
+    let FitData {
+        strain,
+        stress,
+        nu,
+        nu_se,
+        layout,
+    } = fit_data(curve, params)?;
+    let mu_sum = layout.mu_sum;
+    let problem = UniaxialProblem {
+        strain: &strain,
+        stress: &stress,
+        nu,
+        layout,
+    };
+    // Nested start: the (N−1)-term fit plus a small new term at each grid α, so that adding a
+    // term never starts worse than the fit with one term fewer.
+    let fewer = if n > 1 {
+        Some(fit_hyperfoam(
+            curve,
+            &HyperfoamFitParams {
+                terms: n - 1,
+                ..*params
+            },
+        )?)
+    } else {
+        None
+    };
+    let (mu0, alpha0) = start(&problem, fewer.as_ref())?;
+    let (p, info) = match lsq::solve(&problem, &layout.pack(&mu0, &alpha0), &params.solver) {
+        Ok(x) => x,
+        Err(lsq::Error::NoConvergence { iterations, .. }) if fewer.is_some() => {
+            // degenerate valleys (two terms merging) converge slowly: keep the converged
+            // (N−1)-term fit and say so
+            let why = format!(
+                "the {n}-term fit did not converge in {iterations} iterations (the data do not support {n} terms)"
+            );
+            return Ok(with_fewer_terms(fewer.expect("checked"), n, why));
+        }
+        Err(e) => return Err(e.into()),
+    };
+    let (mu, alpha, g) = layout.unpack(&p);
+    let beta = beta_from_nu(nu);
+    let material = Hyperfoam::new(&mu, &alpha, &vec![beta; n])
+        .map_err(|e| FitError::Invalid(e.to_string()))?;
+    let std_errors = std_errors(&info, &g, n, nu, nu_se);
+    let (r, _) = problem.eval(&mu, &alpha, false);
+    let norm = stress.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let peak = stress.iter().cloned().fold(0.0, f64::max);
+    let rms_rel = r.norm() / norm;
+    if let Some(why) = redundancy(&mu, &alpha) {
+        let no_better =
+            |f: &HyperfoamFit| f.rms_rel <= rms_rel * (1.0 + REDUNDANT_GAIN) + RMS_ROUNDOFF;
+        if let Some(f) = fewer.filter(no_better) {
+            let why = format!(
+                "the {n}-term fit is degenerate ({why}) and fits no better: relative RMS misfit \
+                 {:.2} % with {n} terms, {:.2} % with {}",
+                100.0 * rms_rel,
+                100.0 * f.rms_rel,
+                f.material.terms.len()
+            );
+            return Ok(with_fewer_terms(f, n, why));
+        }
+    }
+    let mut warnings = stability_warnings(&material, params.strain_max);
+    warnings.extend(bound_warnings(&alpha));
+    if mu_sum.is_none() {
+        warnings.extend(unresolved_e0(&material, &strain, &stress));
+    }
+    Ok(HyperfoamFit {
+        material,
+        nu,
+        std_errors,
+        points: strain.len(),
+        strain_max: params.strain_max,
+        rms_rel,
+        max_rel: r.amax() / peak,
+        warnings,
+        terms_requested: n,
+        info,
+    })
+}
+
+/// The points a fit uses and what it holds fixed.
+struct FitData {
+    strain: Vec<f64>,
+    stress: Vec<f64>,
+    /// Poisson's ratio from the lateral strain (0 without it) and its standard error
+    nu: f64,
+    nu_se: f64,
+    layout: Layout,
+}
+
+/// Check `params` against `curve` and take the points with 0 < strain ≤ `strain_max`, ν from
+/// the lateral strain if the curve has it, Σμ from a pinned initial modulus.
+fn fit_data(curve: &StressStrainCurve, params: &HyperfoamFitParams) -> Result<FitData, FitError> {
+    let n = params.terms;
     if n == 0 || n > MAX_FIT_TERMS {
         return Err(FitError::Invalid(format!(
             "terms = {n}; 1 to {MAX_FIT_TERMS} allowed"
@@ -402,37 +498,38 @@ pub fn fit_hyperfoam(
         }
         None => None,
     };
-    let layout = Layout { terms: n, mu_sum };
+    Ok(FitData {
+        strain,
+        stress,
+        nu,
+        nu_se,
+        layout: Layout { terms: n, mu_sum },
+    })
+}
 
+/// The least-squares start (μ, α): the best of the variable-projection grid (μ linear for
+/// each α combination) and the nested starts from the fit with one term fewer.
+fn start(
+    problem: &UniaxialProblem,
+    fewer: Option<&HyperfoamFit>,
+) -> Result<(Vec<f64>, Vec<f64>), FitError> {
+    let n = problem.layout.terms;
     // variable-projection start
     let mut best: Option<(Vec<f64>, Vec<f64>, f64)> = None;
     for alpha in combinations(&alpha_grid(), n) {
-        if let Some((mu, cost)) = linear_mu(&strain, &stress, &alpha, nu, mu_sum) {
+        if let Some((mu, cost)) = linear_mu(
+            problem.strain,
+            problem.stress,
+            &alpha,
+            problem.nu,
+            problem.layout.mu_sum,
+        ) {
             if best.as_ref().is_none_or(|b| cost < b.2) {
                 best = Some((mu, alpha, cost));
             }
         }
     }
-    let problem = UniaxialProblem {
-        strain: &strain,
-        stress: &stress,
-        nu,
-        layout,
-    };
-    // Nested start: the (N−1)-term fit plus a small new term at each grid α, so that adding a
-    // term never starts worse than the fit with one term fewer.
-    let fewer = if n > 1 {
-        Some(fit_hyperfoam(
-            curve,
-            &HyperfoamFitParams {
-                terms: n - 1,
-                ..*params
-            },
-        )?)
-    } else {
-        None
-    };
-    if let Some(f) = &fewer {
+    if let Some(f) = fewer {
         let (mu_prev, alpha_prev) = (f.material.mu(), f.material.alpha());
         let total: f64 = mu_prev.iter().sum();
         for &a in &alpha_grid() {
@@ -440,7 +537,7 @@ pub fn fit_hyperfoam(
             mu.push(NESTED_SHARE * total);
             let mut alpha = alpha_prev.clone();
             alpha.push(a);
-            if let Some(r) = problem.residuals(&layout.pack(&mu, &alpha)) {
+            if let Some(r) = problem.residuals(&problem.layout.pack(&mu, &alpha)) {
                 let cost = r.norm_squared();
                 if best.as_ref().is_none_or(|b| cost < b.2) {
                     best = Some((mu, alpha, cost));
@@ -448,29 +545,24 @@ pub fn fit_hyperfoam(
             }
         }
     }
-    let (mu0, alpha0, _) = best.ok_or_else(|| {
+    let (mu, alpha, _) = best.ok_or_else(|| {
         FitError::Invalid(format!(
             "no combination of {n} positive terms describes the data (is the curve compressive and stiffening?)"
         ))
     })?;
-    let (p, info) = match lsq::solve(&problem, &layout.pack(&mu0, &alpha0), &params.solver) {
-        Ok(x) => x,
-        Err(lsq::Error::NoConvergence { iterations, .. }) if fewer.is_some() => {
-            // degenerate valleys (two terms merging) converge slowly: keep the converged
-            // (N−1)-term fit and say so
-            let why = format!(
-                "the {n}-term fit did not converge in {iterations} iterations (the data do not support {n} terms)"
-            );
-            return Ok(with_fewer_terms(fewer.expect("checked"), n, why));
-        }
-        Err(e) => return Err(e.into()),
-    };
-    let (mu, alpha, g) = layout.unpack(&p);
-    let beta = beta_from_nu(nu);
-    let material = Hyperfoam::new(&mu, &alpha, &vec![beta; n])
-        .map_err(|e| FitError::Invalid(e.to_string()))?;
-    let std_errors = info.covariance.as_ref().and_then(|cov| {
-        let ct = &g * cov * g.transpose();
+    Ok((mu, alpha))
+}
+
+/// Standard errors of μ, α and β from the least-squares covariance (`g` = ∂θ/∂p), if finite.
+fn std_errors(
+    info: &lsq::Info,
+    g: &DMatrix<f64>,
+    n: usize,
+    nu: f64,
+    nu_se: f64,
+) -> Option<HyperfoamStdErrors> {
+    info.covariance.as_ref().and_then(|cov| {
+        let ct = g * cov * g.transpose();
         let se = |k: usize| ct[(k, k)].max(0.0).sqrt();
         let e = HyperfoamStdErrors {
             mu: (0..n).map(se).collect(),
@@ -483,54 +575,25 @@ pub fn fit_hyperfoam(
                 .chain([&e.beta])
                 .all(|x| x.is_finite());
         finite.then_some(e)
-    });
-    let (r, _) = problem.eval(&mu, &alpha, false);
-    let norm = stress.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let peak = stress.iter().cloned().fold(0.0, f64::max);
-    let rms_rel = r.norm() / norm;
-    if let Some(why) = redundancy(&mu, &alpha) {
-        let no_better =
-            |f: &HyperfoamFit| f.rms_rel <= rms_rel * (1.0 + REDUNDANT_GAIN) + RMS_ROUNDOFF;
-        if let Some(f) = fewer.filter(no_better) {
-            let why = format!(
-                "the {n}-term fit is degenerate ({why}) and fits no better: relative RMS misfit \
-                 {:.2} % with {n} terms, {:.2} % with {}",
-                100.0 * rms_rel,
-                100.0 * f.rms_rel,
-                f.material.terms.len()
-            );
-            return Ok(with_fewer_terms(f, n, why));
-        }
-    }
-    let mut warnings = stability_warnings(&material, params.strain_max);
-    warnings.extend(bound_warnings(&alpha));
-    if let (None, Some(&e1), Some(&s1)) = (mu_sum, strain.first(), stress.first()) {
-        // the fitted initial modulus is seen by the data only if the first point still lies
-        // near its line: a point far below E⁰ε₁ is past the knee, and E⁰ is an extrapolation
-        let e0 = material.initial_youngs_modulus();
-        if s1 < UNRESOLVED_E0 * e0 * e1 {
-            warnings.push(format!(
-                "the first point (strain {e1:.4}, stress {:.4} MPa) is {:.0} % of the fitted \
-                 initial modulus's line E0*strain (E0 = {:.3} MPa): the curve is past its knee \
-                 there, so E0 is an extrapolation the data do not resolve — sample small \
-                 strains more finely (more compression.steps) or pin E0",
-                s1 * 1e3,
-                100.0 * s1 / (e0 * e1),
-                e0 * 1e3
-            ));
-        }
-    }
-    Ok(HyperfoamFit {
-        material,
-        nu,
-        std_errors,
-        points: strain.len(),
-        strain_max: params.strain_max,
-        rms_rel,
-        max_rel: r.amax() / peak,
-        warnings,
-        terms_requested: n,
-        info,
+    })
+}
+
+/// A warning when the first point lies far below the fitted initial modulus's line.
+fn unresolved_e0(material: &Hyperfoam, strain: &[f64], stress: &[f64]) -> Option<String> {
+    let (&e1, &s1) = (strain.first()?, stress.first()?);
+    // the fitted initial modulus is seen by the data only if the first point still lies
+    // near its line: a point far below E⁰ε₁ is past the knee, and E⁰ is an extrapolation
+    let e0 = material.initial_youngs_modulus();
+    (s1 < UNRESOLVED_E0 * e0 * e1).then(|| {
+        format!(
+            "the first point (strain {e1:.4}, stress {:.4} MPa) is {:.0} % of the fitted \
+             initial modulus's line E0*strain (E0 = {:.3} MPa): the curve is past its knee \
+             there, so E0 is an extrapolation the data do not resolve — sample small \
+             strains more finely (more compression.steps) or pin E0",
+            s1 * 1e3,
+            100.0 * s1 / (e0 * e1),
+            e0 * 1e3
+        )
     })
 }
 
