@@ -161,17 +161,55 @@ fn is_table_header(line: &str) -> bool {
 
 /// Parse a record from text; `source_name` names it in errors.
 pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, RecordError> {
-    let err = |line: Option<usize>, column: Option<&str>, reason: String| RecordError {
-        source_name: source_name.to_string(),
-        line,
-        column: column.map(str::to_string),
-        reason,
-    };
+    let src = Source(source_name);
     let lines: Vec<(usize, &str)> = crate::report::csv::strip_bom(text)
         .lines()
         .enumerate()
         .map(|(i, l)| (i + 1, l.trim_end()))
         .collect();
+    let (format, header_at) = detect_format(&lines, &src)?;
+    let (header_line, header) = lines[header_at];
+    let names = src.split(header_line, header, format)?;
+    let [t, p, h] = columns(&names, header_line, format, &src)?;
+    let cols = [&t, &p, &h];
+    let ([time, load, displacement], row_lines) =
+        read_rows(&lines[header_at + 1..], cols, format, &src)?;
+    check_series([&time, &load, &displacement], &row_lines, cols, &src)?;
+    Ok(IndentationRecord {
+        time,
+        load,
+        displacement,
+        format,
+        columns: [t.name.clone(), p.name.clone(), h.name.clone()],
+    })
+}
+
+/// The record's name, for its errors.
+struct Source<'a>(&'a str);
+
+impl Source<'_> {
+    fn err(&self, line: Option<usize>, column: Option<&str>, reason: String) -> RecordError {
+        RecordError {
+            source_name: self.0.to_string(),
+            line,
+            column: column.map(str::to_string),
+            reason,
+        }
+    }
+
+    /// The fields of line `n` of a `format` file.
+    fn split(&self, n: usize, line: &str, format: Format) -> Result<Vec<String>, RecordError> {
+        let sep = match format {
+            Format::Csv => ',',
+            Format::NanoindenterText => '\t',
+        };
+        crate::report::csv::split_fields(line, sep).map_err(|e| self.err(Some(n), None, e))
+    }
+}
+
+/// The format and the index in `lines` of its header row: a nanoindenter table header anywhere,
+/// else a comma-separated first line that is not a comment.
+fn detect_format(lines: &[(usize, &str)], src: &Source) -> Result<(Format, usize), RecordError> {
     let first = lines
         .iter()
         .find(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
@@ -180,7 +218,7 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         None => match first {
             Some((n, l)) if l.contains(',') => (Format::Csv, n - 1),
             _ => {
-                return Err(err(
+                return Err(src.err(
                     first.map(|(n, _)| *n),
                     None,
                     "no header row found: expected a CSV header such as \
@@ -191,16 +229,17 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
             }
         },
     };
-    let sep = match format {
-        Format::Csv => ',',
-        Format::NanoindenterText => '\t',
-    };
-    let (header_line, header) = lines[header_at];
-    let split = |n: usize, line: &str| {
-        crate::report::csv::split_fields(line, sep).map_err(|e| err(Some(n), None, e))
-    };
-    let names_owned = split(header_line, header)?;
-    let names: Vec<&str> = names_owned.iter().map(String::as_str).collect();
+    Ok((format, header_at))
+}
+
+/// The time, load and displacement columns of the header `names` (on line `header_line`),
+/// with their unit factors.
+fn columns(
+    names: &[String],
+    header_line: usize,
+    format: Format,
+    src: &Source,
+) -> Result<[Column; 3], RecordError> {
     let mut found: [Option<Column>; 3] = [None, None, None];
     for (index, name) in names.iter().enumerate() {
         let Some((q, unit)) = split_name(name, format) else {
@@ -214,7 +253,7 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         }
         let at = Some(header_line);
         if unit.is_empty() {
-            return Err(err(
+            return Err(src.err(
                 at,
                 Some(name),
                 format!(
@@ -224,10 +263,10 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
             ));
         }
         let factor = parse_quantity(&format!("1 {unit}"), quantity.dimension())
-            .map_err(|e| err(at, Some(name), format!("unit \"{unit}\" not accepted: {e}")))?;
+            .map_err(|e| src.err(at, Some(name), format!("unit \"{unit}\" not accepted: {e}")))?;
         let slot = &mut found[quantity as usize];
         if let Some(prev) = slot {
-            return Err(err(
+            return Err(src.err(
                 at,
                 Some(name),
                 format!(
@@ -245,7 +284,7 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
     }
     let [t, p, h] = found;
     let missing = |q: Quantity| {
-        err(
+        src.err(
             Some(header_line),
             None,
             format!(
@@ -259,17 +298,27 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
     let t = t.ok_or_else(|| missing(Quantity::Time))?;
     let p = p.ok_or_else(|| missing(Quantity::Load))?;
     let h = h.ok_or_else(|| missing(Quantity::Displacement))?;
-    let cols = [&t, &p, &h];
+    Ok([t, p, h])
+}
+
+/// The values of the columns `cols` on the data rows (comments and blank lines skipped), in
+/// internal units, with the line number of each sample.
+fn read_rows(
+    rows: &[(usize, &str)],
+    cols: [&Column; 3],
+    format: Format,
+    src: &Source,
+) -> Result<([Vec<f64>; 3], Vec<usize>), RecordError> {
     let width = cols.iter().map(|c| c.index).max().unwrap_or(0) + 1;
     let mut values: [Vec<f64>; 3] = [Vec::new(), Vec::new(), Vec::new()];
     let mut row_lines = Vec::new();
-    for &(n, line) in &lines[header_at + 1..] {
+    for &(n, line) in rows {
         if line.trim().is_empty() || (format == Format::Csv && line.trim_start().starts_with('#')) {
             continue;
         }
-        let cells = split(n, line)?;
+        let cells = src.split(n, line, format)?;
         if cells.len() < width {
-            return Err(err(
+            return Err(src.err(
                 Some(n),
                 None,
                 format!("{} values, the columns used need {width}", cells.len()),
@@ -278,14 +327,14 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         for (k, c) in cols.iter().enumerate() {
             let cell = cells[c.index].as_str();
             let v: f64 = cell.parse().map_err(|_| {
-                err(
+                src.err(
                     Some(n),
                     Some(&c.name),
                     format!("\"{cell}\" is not a number"),
                 )
             })?;
             if !v.is_finite() {
-                return Err(err(
+                return Err(src.err(
                     Some(n),
                     Some(&c.name),
                     format!("\"{cell}\" is not a finite number"),
@@ -295,9 +344,19 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         }
         row_lines.push(n);
     }
-    let [time, load, displacement] = values;
+    Ok((values, row_lines))
+}
+
+/// Refuse series that cannot be fitted: too few samples, time not increasing strictly (the
+/// samples' lines `row_lines`), a load or displacement that never changes.
+fn check_series(
+    [time, load, displacement]: [&[f64]; 3],
+    row_lines: &[usize],
+    [t, p, h]: [&Column; 3],
+    src: &Source,
+) -> Result<(), RecordError> {
     if time.len() < MIN_POINTS {
-        return Err(err(
+        return Err(src.err(
             None,
             None,
             format!(
@@ -307,7 +366,7 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         ));
     }
     if let Some(i) = time.windows(2).position(|w| w[1] <= w[0]) {
-        return Err(err(
+        return Err(src.err(
             Some(row_lines[i + 1]),
             Some(&t.name),
             format!(
@@ -318,26 +377,20 @@ pub fn parse_record(text: &str, source_name: &str) -> Result<IndentationRecord, 
         ));
     }
     if load.iter().all(|&x| x == load[0]) {
-        return Err(err(
+        return Err(src.err(
             None,
             Some(&p.name),
             "the load never changes: a record needs loading to determine the stiffnesses".into(),
         ));
     }
     if displacement.iter().all(|&x| x == displacement[0]) {
-        return Err(err(
+        return Err(src.err(
             None,
             Some(&h.name),
             "the displacement never changes: nothing to fit".into(),
         ));
     }
-    Ok(IndentationRecord {
-        time,
-        load,
-        displacement,
-        format,
-        columns: [t.name.clone(), p.name.clone(), h.name.clone()],
-    })
+    Ok(())
 }
 
 #[cfg(test)]
