@@ -85,6 +85,100 @@ pub struct ScheduleTotals {
     pub max_load_nn: f64,
 }
 
+impl Segment {
+    /// Check a hold (a duration, no target or rate); its duration, s (0 if unusable).
+    fn check_hold(&self, c: &mut Checker, key: impl Fn(&str) -> String) -> f64 {
+        for (k, present) in [("to", self.to.is_some()), ("rate", self.rate.is_some())] {
+            if present {
+                c.unused(&key(k), "in a hold (a hold keeps its target; give time)");
+            }
+        }
+        match self.time {
+            Some(t) => {
+                c.positive(&key("time"), t);
+                t.0.max(0.0)
+            }
+            None => {
+                c.bad(key("time"), "is missing: a hold needs its duration");
+                0.0
+            }
+        }
+    }
+
+    /// The duration of a moving segment, s, from its rate or its time (the rate resolved from
+    /// a time, once, here: the engines take a rate), for a `change` of the controlled
+    /// variable of dimension `dim`; None if neither or both are given or they are unusable.
+    fn duration(
+        &mut self,
+        c: &mut Checker,
+        key: impl Fn(&str) -> String,
+        change: f64,
+        dim: Dimension,
+        by_load: bool,
+    ) -> Option<f64> {
+        Some(match (&mut self.rate, self.time) {
+            (Some(_), Some(_)) => {
+                c.bad(key("rate"), "and time are both given: give one of them");
+                return None;
+            }
+            (None, None) => {
+                c.bad(
+                    key("rate"),
+                    "is missing: give the rate or the time of the segment",
+                );
+                return None;
+            }
+            (None, Some(t)) => {
+                c.positive(&key("time"), t);
+                // the engines take a rate: resolve it from the time once, here
+                let r = change.abs() / t.0;
+                if t.0 > 0.0 && change != 0.0 && !(r.is_finite() && r > 0.0) {
+                    c.bad(
+                        key("time"),
+                        format!(
+                            "{} s is not allowed: moving {} {} in it needs a rate of {r}, not a finite positive number",
+                            t.0,
+                            change.abs(),
+                            dim.internal_unit()
+                        ),
+                    );
+                    return None;
+                }
+                self.rate = Some(Amount::Number(r));
+                t.0
+            }
+            (Some(rate), None) => {
+                let r = if by_load {
+                    rate.resolve_per_second(Dimension::Force)
+                } else {
+                    rate.resolve(Dimension::Rate)
+                };
+                match r {
+                    Ok(r) if r > 0.0 && change != 0.0 && !(change.abs() / r).is_normal() => {
+                        c.bad(
+                            key("rate"),
+                            format!(
+                                "{r} is not allowed: the segment would last {} s, not a finite positive time",
+                                change.abs() / r
+                            ),
+                        );
+                        return None;
+                    }
+                    Ok(r) if r > 0.0 => change.abs() / r,
+                    Ok(r) => {
+                        c.bad(key("rate"), format!("{r} is not allowed: a rate must be positive (its direction comes from the kind)"));
+                        return None;
+                    }
+                    Err(e) => {
+                        c.bad(key("rate"), e);
+                        return None;
+                    }
+                }
+            }
+        })
+    }
+}
+
 impl Schedule {
     /// Resolve every target and rate into internal units of the dimension `control` gives
     /// them, checking that the segments follow one another consistently.
@@ -106,18 +200,7 @@ impl Schedule {
         for (i, s) in self.segment.iter_mut().enumerate() {
             let key = |k: &str| format!("schedule.segment[{i}].{k}");
             if s.kind == SegmentKind::Hold {
-                for (k, present) in [("to", s.to.is_some()), ("rate", s.rate.is_some())] {
-                    if present {
-                        c.unused(&key(k), "in a hold (a hold keeps its target; give time)");
-                    }
-                }
-                match s.time {
-                    Some(t) => {
-                        c.positive(&key("time"), t);
-                        totals.duration_s += t.0.max(0.0);
-                    }
-                    None => c.bad(key("time"), "is missing: a hold needs its duration"),
-                }
+                totals.duration_s += s.check_hold(c, key);
                 continue;
             }
             let by_load = control == Control::Load && s.kind != SegmentKind::Approach;
@@ -172,65 +255,8 @@ impl Schedule {
                 totals.max_depth_nm = totals.max_depth_nm.max(target);
             }
             loaded |= s.kind == SegmentKind::Load;
-            let duration = match (&mut s.rate, s.time) {
-                (Some(_), Some(_)) => {
-                    c.bad(key("rate"), "and time are both given: give one of them");
-                    continue;
-                }
-                (None, None) => {
-                    c.bad(
-                        key("rate"),
-                        "is missing: give the rate or the time of the segment",
-                    );
-                    continue;
-                }
-                (None, Some(t)) => {
-                    c.positive(&key("time"), t);
-                    // the engines take a rate: resolve it from the time once, here
-                    let r = change.abs() / t.0;
-                    if t.0 > 0.0 && change != 0.0 && !(r.is_finite() && r > 0.0) {
-                        c.bad(
-                            key("time"),
-                            format!(
-                                "{} s is not allowed: moving {} {} in it needs a rate of {r}, not a finite positive number",
-                                t.0,
-                                change.abs(),
-                                dim.internal_unit()
-                            ),
-                        );
-                        continue;
-                    }
-                    s.rate = Some(Amount::Number(r));
-                    t.0
-                }
-                (Some(rate), None) => {
-                    let r = if by_load {
-                        rate.resolve_per_second(Dimension::Force)
-                    } else {
-                        rate.resolve(Dimension::Rate)
-                    };
-                    match r {
-                        Ok(r) if r > 0.0 && change != 0.0 && !(change.abs() / r).is_normal() => {
-                            c.bad(
-                                key("rate"),
-                                format!(
-                                    "{r} is not allowed: the segment would last {} s, not a finite positive time",
-                                    change.abs() / r
-                                ),
-                            );
-                            continue;
-                        }
-                        Ok(r) if r > 0.0 => change.abs() / r,
-                        Ok(r) => {
-                            c.bad(key("rate"), format!("{r} is not allowed: a rate must be positive (its direction comes from the kind)"));
-                            continue;
-                        }
-                        Err(e) => {
-                            c.bad(key("rate"), e);
-                            continue;
-                        }
-                    }
-                }
+            let Some(duration) = s.duration(c, key, change, dim, by_load) else {
+                continue;
             };
             totals.duration_s += duration.max(0.0);
         }
