@@ -190,142 +190,202 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
             }
         }
     };
+    let budget = Budget {
+        limit: ceiling.bytes,
+        source: &ceiling.source,
+    };
+    let saved_steps = scene.compression.as_ref().map_or(1.0, |k| {
+        (k.steps as f64) * if k.unload { 2.0 } else { 1.0 } + 1.0
+    });
+    let nodes = NodeCost {
+        bytes: DISCRETE_BYTES_PER_NODE + CHECKPOINT_BYTES_PER_NODE * saved_steps,
+        lower_steps: if scene.compression.is_some() {
+            ", fewer compression.steps"
+        } else {
+            ""
+        },
+    };
     let mut stages = Vec::new();
-    let limit = ceiling.bytes;
-    // a NaN estimate counts as over
-    let over = |b: f64| b.is_nan() || b > limit;
-    // a stage's refusal: the key that drives its size, the estimate and how to lower it
-    let refuse = |c: &mut Checker,
-                  key: String,
-                  stage: &str,
-                  bytes: f64,
-                  detail: &str,
-                  advice: &str| {
+    if let Some(t) = &scene.turf {
+        stages.push(turf_memory(t, &nodes, &budget, c));
+    }
+    if let Some(r) = &scene.rods {
+        stages.push(rods_memory(r, &nodes, &budget, c));
+    }
+    if let Some(est) = halfspace_nodes(scene) {
+        stages.push(halfspace_memory(scene, est, &budget, c));
+    }
+    if scene.schedule.is_some() {
+        stages.push(continuum_memory(scene, &budget, c));
+    }
+    Memory { ceiling, stages }
+}
+
+/// The memory ceiling, for the stages' refusals.
+struct Budget<'a> {
+    /// bytes
+    limit: f64,
+    /// where it comes from
+    source: &'a str,
+}
+
+impl Budget<'_> {
+    /// Whether `bytes` exceed the ceiling (a NaN estimate counts as over).
+    fn over(&self, bytes: f64) -> bool {
+        bytes.is_nan() || bytes > self.limit
+    }
+
+    /// A stage's refusal: the key that drives its size, the estimate and how to lower it.
+    fn refuse(
+        &self,
+        c: &mut Checker,
+        key: String,
+        stage: &str,
+        bytes: f64,
+        detail: &str,
+        advice: &str,
+    ) {
         c.bad(
             key,
             format!(
                 "the {stage} stage would need about {} for {detail}, beyond the memory ceiling {} ({}): {advice}",
                 bytes_text(bytes),
-                bytes_text(limit),
-                ceiling.source
+                bytes_text(self.limit),
+                self.source
             ),
         );
-    };
-    let saved_steps = scene.compression.as_ref().map_or(1.0, |k| {
-        (k.steps as f64) * if k.unload { 2.0 } else { 1.0 } + 1.0
+    }
+}
+
+/// What a node of the discrete engine costs, with its saved steps.
+struct NodeCost {
+    bytes: f64,
+    /// the advice to save fewer steps, if the scene saves them
+    lower_steps: &'static str,
+}
+
+/// The discrete engine on a generated turf.
+fn turf_memory(
+    t: &super::turf::Turf,
+    nodes: &NodeCost,
+    budget: &Budget,
+    c: &mut Checker,
+) -> StageMemory {
+    let tubes = t.tube_count();
+    let segment = t.tube.segment.map_or(t.growth.length.0 / 20.0, |s| s.0);
+    let per_tube = (t.growth.length.0 / segment).ceil().max(2.0);
+    let count = tubes * (per_tube + 1.0);
+    // the realisations of an ensemble run one per thread
+    let at_once = t.realisations.min(rayon::current_num_threads()).max(1);
+    let bytes = count * nodes.bytes * at_once as f64;
+    let mut detail = format!(
+        "{} tubes (turf.density × turf.box) × {} segments (turf.growth.length / turf.tube.segment)",
+        count_text(tubes),
+        count_text(per_tube)
+    );
+    let mut fewer = "";
+    if at_once > 1 {
+        detail.push_str(&format!(
+            " × {at_once} realisations at once (turf.realisations, one per thread)"
+        ));
+        fewer = ", fewer threads (RAYON_NUM_THREADS)";
+    }
+    if budget.over(bytes) {
+        let advice = format!(
+            "use a smaller turf.box or turf.density, longer turf.tube.segment{}{fewer}",
+            nodes.lower_steps
+        );
+        budget.refuse(c, "turf.box".into(), "discrete", bytes, &detail, &advice);
+    }
+    StageMemory {
+        stage: Stage::Discrete,
+        bytes,
+        detail,
+    }
+}
+
+/// The discrete engine on the scene's rods.
+fn rods_memory(
+    r: &super::rods::Rods,
+    nodes: &NodeCost,
+    budget: &Budget,
+    c: &mut Checker,
+) -> StageMemory {
+    let count: f64 = r.rod.iter().map(|r| r.segments as f64 + 1.0).sum();
+    let bytes = count * nodes.bytes;
+    let detail = format!("{} rod nodes (rods.rod[i].segments + 1)", count_text(count));
+    if budget.over(bytes) {
+        let i = (0..r.rod.len())
+            .max_by_key(|&i| r.rod[i].segments)
+            .unwrap_or(0);
+        let advice = format!("use fewer segments{}", nodes.lower_steps);
+        let key = format!("rods.rod[{i}].segments");
+        budget.refuse(c, key, "discrete", bytes, &detail, &advice);
+    }
+    StageMemory {
+        stage: Stage::Discrete,
+        bytes,
+        detail,
+    }
+}
+
+/// The half-space solver's dense matrices on `est` grid nodes.
+fn halfspace_memory(scene: &Scene, est: f64, budget: &Budget, c: &mut Checker) -> StageMemory {
+    let bytes = HALFSPACE_MATRICES * 8.0 * est * est;
+    let detail = format!(
+        "about {} grid nodes (halfspace.cells_per_zone{}), dense matrices",
+        count_text(est),
+        if scene.halfspace.as_ref().is_some_and(|h| h.refinement) {
+            ", finest grid of halfspace.refinement"
+        } else {
+            ""
+        }
+    );
+    if budget.over(bytes) {
+        let advice =
+            "lower halfspace.cells_per_zone (default 12) or set halfspace.refinement = false";
+        budget.refuse(
+            c,
+            "halfspace.cells_per_zone".into(),
+            "halfspace",
+            bytes,
+            &detail,
+            advice,
+        );
+    }
+    StageMemory {
+        stage: Stage::Halfspace,
+        bytes,
+        detail,
+    }
+}
+
+/// The FE mesh at its element cap.
+fn continuum_memory(scene: &Scene, budget: &Budget, c: &mut Checker) -> StageMemory {
+    let given = scene.mesh.as_ref().and_then(|m| m.max_elements);
+    let n = given.map_or(crate::continuum::mesh::DEFAULT_MAX_ELEMENTS as f64, |n| {
+        n as f64
     });
-    let node_bytes = DISCRETE_BYTES_PER_NODE + CHECKPOINT_BYTES_PER_NODE * saved_steps;
-    let lower_steps = if scene.compression.is_some() {
-        ", fewer compression.steps"
-    } else {
-        ""
-    };
-    if let Some(t) = &scene.turf {
-        let tubes = t.tube_count();
-        let segment = t.tube.segment.map_or(t.growth.length.0 / 20.0, |s| s.0);
-        let per_tube = (t.growth.length.0 / segment).ceil().max(2.0);
-        let nodes = tubes * (per_tube + 1.0);
-        // the realisations of an ensemble run one per thread
-        let at_once = t.realisations.min(rayon::current_num_threads()).max(1);
-        let bytes = nodes * node_bytes * at_once as f64;
-        let mut detail = format!(
-            "{} tubes (turf.density × turf.box) × {} segments (turf.growth.length / turf.tube.segment)",
-            count_text(tubes),
-            count_text(per_tube)
+    let bytes = n * FE_BYTES_PER_ELEMENT;
+    if given.is_some() && budget.over(bytes) {
+        c.bad(
+            "mesh.max_elements",
+            format!(
+                "{} elements would need about {}, beyond the memory ceiling {} ({}): at most {} on this machine",
+                count_text(n),
+                bytes_text(bytes),
+                bytes_text(budget.limit),
+                budget.source,
+                count_text(elements_within(budget.limit))
+            ),
         );
-        let mut fewer = "";
-        if at_once > 1 {
-            detail.push_str(&format!(
-                " × {at_once} realisations at once (turf.realisations, one per thread)"
-            ));
-            fewer = ", fewer threads (RAYON_NUM_THREADS)";
-        }
-        if over(bytes) {
-            let advice = format!(
-                "use a smaller turf.box or turf.density, longer turf.tube.segment{lower_steps}{fewer}"
-            );
-            refuse(c, "turf.box".into(), "discrete", bytes, &detail, &advice);
-        }
-        stages.push(StageMemory {
-            stage: Stage::Discrete,
-            bytes,
-            detail,
-        });
     }
-    if let Some(r) = &scene.rods {
-        let nodes: f64 = r.rod.iter().map(|r| r.segments as f64 + 1.0).sum();
-        let bytes = nodes * node_bytes;
-        let detail = format!("{} rod nodes (rods.rod[i].segments + 1)", count_text(nodes));
-        if over(bytes) {
-            let i = (0..r.rod.len())
-                .max_by_key(|&i| r.rod[i].segments)
-                .unwrap_or(0);
-            let advice = format!("use fewer segments{lower_steps}");
-            let key = format!("rods.rod[{i}].segments");
-            refuse(c, key, "discrete", bytes, &detail, &advice);
-        }
-        stages.push(StageMemory {
-            stage: Stage::Discrete,
-            bytes,
-            detail,
-        });
+    let cap = n.min(elements_within(budget.limit));
+    StageMemory {
+        stage: Stage::Continuum,
+        bytes: cap * FE_BYTES_PER_ELEMENT,
+        detail: format!("at most {} elements (mesh.max_elements)", count_text(cap)),
     }
-    if let Some(est) = halfspace_nodes(scene) {
-        let bytes = HALFSPACE_MATRICES * 8.0 * est * est;
-        let detail = format!(
-            "about {} grid nodes (halfspace.cells_per_zone{}), dense matrices",
-            count_text(est),
-            if scene.halfspace.as_ref().is_some_and(|h| h.refinement) {
-                ", finest grid of halfspace.refinement"
-            } else {
-                ""
-            }
-        );
-        if over(bytes) {
-            let advice =
-                "lower halfspace.cells_per_zone (default 12) or set halfspace.refinement = false";
-            refuse(
-                c,
-                "halfspace.cells_per_zone".into(),
-                "halfspace",
-                bytes,
-                &detail,
-                advice,
-            );
-        }
-        stages.push(StageMemory {
-            stage: Stage::Halfspace,
-            bytes,
-            detail,
-        });
-    }
-    if scene.schedule.is_some() {
-        let given = scene.mesh.as_ref().and_then(|m| m.max_elements);
-        let n = given.map_or(crate::continuum::mesh::DEFAULT_MAX_ELEMENTS as f64, |n| {
-            n as f64
-        });
-        let bytes = n * FE_BYTES_PER_ELEMENT;
-        if given.is_some() && over(bytes) {
-            c.bad(
-                "mesh.max_elements",
-                format!(
-                    "{} elements would need about {}, beyond the memory ceiling {} ({}): at most {} on this machine",
-                    count_text(n),
-                    bytes_text(bytes),
-                    bytes_text(limit),
-                    ceiling.source,
-                    count_text(elements_within(limit))
-                ),
-            );
-        }
-        let cap = n.min(elements_within(limit));
-        stages.push(StageMemory {
-            stage: Stage::Continuum,
-            bytes: cap * FE_BYTES_PER_ELEMENT,
-            detail: format!("at most {} elements (mesh.max_elements)", count_text(cap)),
-        });
-    }
-    Memory { ceiling, stages }
 }
 
 /// Nodes of the half-space's finest grid, when the scene has a `[halfspace]` it can build.
