@@ -676,6 +676,19 @@ fn check_users(
 fn switches(scene: &Scene, continuum: bool, d: &Derived) -> Vec<Switch> {
     let mut s = Vec::new();
     let mut push = |name, on, detail: String| s.push(Switch { name, on, detail });
+    surface_switches(scene, d, &mut push);
+    if continuum {
+        machine_switches(scene, d, &mut push);
+    }
+    discrete_switches(scene, &mut push);
+    s
+}
+
+/// A switch's name, whether it is on, and what it is.
+type Push<'a> = dyn FnMut(&'static str, bool, String) + 'a;
+
+/// Adhesion, its thermal shift, contact damping and viscoelasticity.
+fn surface_switches(scene: &Scene, d: &Derived, push: &mut Push) {
     match &scene.adhesion {
         Some(a) => push(
             "lj_adhesion",
@@ -729,39 +742,45 @@ fn switches(scene: &Scene, continuum: bool, d: &Derived) -> Vec<Switch> {
             None => "no [viscoelastic]: no internal variables".into(),
         },
     );
-    if continuum {
-        let m = scene.machine.clone().unwrap_or_default();
-        let detail = match (m.control, m.stiffness, d.machine_series_stiffness) {
-            (Control::Displacement, Some(k), _) => {
-                format!(
-                    "displacement control through a spring K = {} nN/nm",
-                    sig(k.0)
-                )
-            }
-            (Control::Displacement, None, _) => "displacement control, rigid drive".into(),
-            (Control::Load, _, Some(chi)) => {
-                format!(
-                    "load control through springs k1, k2 (χ = {} nN/nm)",
-                    sig(chi)
-                )
-            }
-            (Control::Load, _, None) => "load control, no machine springs".into(),
-        };
-        push("machine", true, detail);
-        let small = scene
-            .solver
-            .as_ref()
-            .is_some_and(|s| s.kinematics == Kinematics::Small);
-        push(
-            "finite_kinematics",
-            !small,
-            if small {
-                "small strain (solver.kinematics = \"small\")".into()
-            } else {
-                "finite deformation, total Lagrangian".into()
-            },
-        );
-    }
+}
+
+/// The FE's machine and kinematics.
+fn machine_switches(scene: &Scene, d: &Derived, push: &mut Push) {
+    let m = scene.machine.clone().unwrap_or_default();
+    let detail = match (m.control, m.stiffness, d.machine_series_stiffness) {
+        (Control::Displacement, Some(k), _) => {
+            format!(
+                "displacement control through a spring K = {} nN/nm",
+                sig(k.0)
+            )
+        }
+        (Control::Displacement, None, _) => "displacement control, rigid drive".into(),
+        (Control::Load, _, Some(chi)) => {
+            format!(
+                "load control through springs k1, k2 (χ = {} nN/nm)",
+                sig(chi)
+            )
+        }
+        (Control::Load, _, None) => "load control, no machine springs".into(),
+    };
+    push("machine", true, detail);
+    let small = scene
+        .solver
+        .as_ref()
+        .is_some_and(|s| s.kinematics == Kinematics::Small);
+    push(
+        "finite_kinematics",
+        !small,
+        if small {
+            "small strain (solver.kinematics = \"small\")".into()
+        } else {
+            "finite deformation, total Lagrangian".into()
+        },
+    );
+}
+
+/// The discrete engine's tube contacts, periodicity and sphere contact.
+fn discrete_switches(scene: &Scene, push: &mut Push) {
     let vdw = scene
         .turf
         .as_ref()
@@ -816,7 +835,6 @@ fn switches(scene: &Scene, continuum: bool, d: &Derived) -> Vec<Switch> {
             format!("discrete sphere: {adhesion}; {tangential}"),
         );
     }
-    s
 }
 
 fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
@@ -831,6 +849,17 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
             });
         }
     };
+    indenter_values(scene, d, &mut put);
+    adhesion_values(scene, d, &mut put);
+    size_values(scene, d, &mut put);
+    v
+}
+
+/// A resolved value: key, value, unit, note.
+type Put<'a> = dyn FnMut(&str, f64, &'static str, &str) + 'a;
+
+/// The indenter and the material, with E*.
+fn indenter_values(scene: &Scene, d: &Derived, put: &mut Put) {
     if let Some(i) = &scene.indenter {
         put("indenter.radius", i.radius.0, "nm", "");
         if let Some(t) = i.tip_depth {
@@ -853,6 +882,11 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
     if let Some(es) = d.effective_modulus_gpa {
         put("E*", es, "GPa", "E/(1 - ν²), rigid indenter");
     }
+}
+
+/// The adhesion law, its shift, and the adhesion parameters it gives (Tabor, Maugis, JKR, the
+/// process zone).
+fn adhesion_values(scene: &Scene, d: &Derived, put: &mut Put) {
     if let Some(a) = &scene.adhesion {
         put("adhesion.gamma", a.gamma.0, "J/m^2", "");
         put("adhesion.z0", a.z0.0, "nm", "");
@@ -899,6 +933,10 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
             "E*γ/σ_peak²: adhesive meshes resolve it",
         );
     }
+}
+
+/// The schedule, the mesh, the machine and the turf's sizes.
+fn size_values(scene: &Scene, d: &Derived, put: &mut Put) {
     if let Some(t) = &d.schedule {
         put("schedule duration", t.duration_s, "s", "");
         put("schedule max depth", t.max_depth_nm, "nm", "");
@@ -939,7 +977,6 @@ fn values(scene: &Scene, d: &Derived) -> Vec<Resolved> {
     if let Some(h) = &scene.halfspace {
         put("halfspace.cells_per_zone", h.cells_per_zone, "", "");
     }
-    v
 }
 
 #[cfg(test)]
