@@ -259,49 +259,11 @@ fn quadtree(
     }
     balance(&mut leaves, nx, ny);
 
-    // nodes at integer coordinates of the finest level
-    let key = |(l, i, j): Cell, di: u64, dj: u64| -> (u64, u64) {
-        let f = 1u64 << (levels - l);
-        ((i + di) * f, (j + dj) * f)
-    };
-    let mut ids: BTreeMap<(u64, u64), usize> = BTreeMap::new();
-    for &c in &leaves {
-        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-            let n = ids.len();
-            ids.entry(key(c, di, dj)).or_insert(n);
-        }
-    }
-    let mut triangles = Vec::new();
-    let mut centres = Vec::new();
-    for &c in &leaves {
-        let (l, i, j) = c;
-        let f = 1u64 << (levels - l);
-        let (i0, j0) = (i * f, j * f);
-        let (i1, j1) = (i0 + f, j0 + f);
-        let h = f / 2;
-        // counter-clockwise in (r, z) with z = −j: bottom-left, bottom-right, top-right, top-left
-        let corners = [(i0, j1), (i1, j1), (i1, j0), (i0, j0)];
-        let mids = [(i0 + h, j1), (i1, j0 + h), (i0 + h, j0), (i0, j0 + h)];
-        let mut ring = Vec::with_capacity(8);
-        for k in 0..4 {
-            ring.push(ids[&corners[k]]);
-            if f > 1 {
-                if let Some(&m) = ids.get(&mids[k]) {
-                    ring.push(m);
-                }
-            }
-        }
-        if ring.len() == 4 {
-            triangles.push([ring[0], ring[1], ring[2]]);
-            triangles.push([ring[0], ring[2], ring[3]]);
-        } else {
-            let centre = ids.len() + centres.len();
-            centres.push((i0 + h, j0 + h));
-            for k in 0..ring.len() {
-                triangles.push([centre, ring[k], ring[(k + 1) % ring.len()]]);
-            }
-        }
-    }
+    let Triangulation {
+        ids,
+        triangles,
+        centres,
+    } = triangulate(&leaves, levels);
     let mut nodes = vec![[0.0; 2]; ids.len() + centres.len()];
     let place = |(a, b): (u64, u64)| [a as f64 * h0, -(b as f64) * h0];
     for (&k, &n) in &ids {
@@ -334,6 +296,68 @@ fn quadtree(
         width: nx as f64 * root,
         depth: ny as f64 * root,
     })
+}
+
+/// The triangles of a quadtree's leaves.
+struct Triangulation {
+    /// corner nodes' numbers by their integer coordinates on the finest level
+    ids: BTreeMap<(u64, u64), usize>,
+    triangles: Vec<[usize; 3]>,
+    /// fan centres' coordinates (numbered after the corners, in order)
+    centres: Vec<(u64, u64)>,
+}
+
+/// Triangles of the balanced `leaves` (finest level `levels`): two per leaf without hanging
+/// nodes, else a fan around a centre node.
+fn triangulate(leaves: &BTreeSet<Cell>, levels: u32) -> Triangulation {
+    // nodes at integer coordinates of the finest level
+    let key = |(l, i, j): Cell, di: u64, dj: u64| -> (u64, u64) {
+        let f = 1u64 << (levels - l);
+        ((i + di) * f, (j + dj) * f)
+    };
+    let mut ids: BTreeMap<(u64, u64), usize> = BTreeMap::new();
+    for &c in leaves {
+        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let n = ids.len();
+            ids.entry(key(c, di, dj)).or_insert(n);
+        }
+    }
+    let mut triangles = Vec::new();
+    let mut centres = Vec::new();
+    for &c in leaves {
+        let (l, i, j) = c;
+        let f = 1u64 << (levels - l);
+        let (i0, j0) = (i * f, j * f);
+        let (i1, j1) = (i0 + f, j0 + f);
+        let h = f / 2;
+        // counter-clockwise in (r, z) with z = −j: bottom-left, bottom-right, top-right, top-left
+        let corners = [(i0, j1), (i1, j1), (i1, j0), (i0, j0)];
+        let mids = [(i0 + h, j1), (i1, j0 + h), (i0 + h, j0), (i0, j0 + h)];
+        let mut ring = Vec::with_capacity(8);
+        for k in 0..4 {
+            ring.push(ids[&corners[k]]);
+            if f > 1 {
+                if let Some(&m) = ids.get(&mids[k]) {
+                    ring.push(m);
+                }
+            }
+        }
+        if ring.len() == 4 {
+            triangles.push([ring[0], ring[1], ring[2]]);
+            triangles.push([ring[0], ring[2], ring[3]]);
+        } else {
+            let centre = ids.len() + centres.len();
+            centres.push((i0 + h, j0 + h));
+            for k in 0..ring.len() {
+                triangles.push([centre, ring[k], ring[(k + 1) % ring.len()]]);
+            }
+        }
+    }
+    Triangulation {
+        ids,
+        triangles,
+        centres,
+    }
 }
 
 fn children((l, i, j): Cell) -> [Cell; 4] {
