@@ -249,41 +249,14 @@ impl MaterialCard {
     /// `*VISCOELASTIC, TIME=PRONY`, in the units of its `** turf-units:` line (required: a card
     /// without a stated unit system cannot be read safely).
     pub fn from_inp(text: &str, src: &str) -> Result<Self, CardError> {
-        let mut stress_factor = None;
-        let mut time_factor = None;
+        let mut units = InpUnits::default();
         // (keyword line, data lines)
         let mut blocks: Vec<(String, Vec<String>)> = Vec::new();
         for raw in text.lines() {
             let line = raw.trim();
             if let Some(c) = line.strip_prefix("**") {
                 if let Some(u) = c.trim().strip_prefix("turf-units:") {
-                    for kv in u.split_whitespace() {
-                        let (k, v) = kv.split_once('=').ok_or_else(|| {
-                            err(src, format!("turf-units: \"{kv}\" is not key=unit"))
-                        })?;
-                        let dim = match k {
-                            "stress" => Dimension::Pressure,
-                            "time" => Dimension::Time,
-                            _ => {
-                                return Err(err(
-                                    src,
-                                    format!("turf-units: unknown key \"{k}\" (stress, time)"),
-                                ))
-                            }
-                        };
-                        // the internal units themselves convert exactly (no rounding of 1e9/1e9)
-                        let f = if v == "GPa" || v == "s" {
-                            1.0
-                        } else {
-                            parse_quantity(&format!("1 {v}"), dim)
-                                .map_err(|e| err(src, format!("turf-units: {e}")))?
-                        };
-                        if k == "stress" {
-                            stress_factor = Some(f);
-                        } else {
-                            time_factor = Some(f);
-                        }
-                    }
+                    units.read(u, src)?;
                 }
                 continue;
             }
@@ -296,85 +269,16 @@ impl MaterialCard {
                 b.1.push(line.to_string());
             }
         }
-        let stress_factor = stress_factor.ok_or_else(|| {
+        let stress_factor = units.stress.ok_or_else(|| {
             err(
                 src,
                 "no \"** turf-units: stress=GPa time=s\" line: the card's unit system is unknown",
             )
         })?;
-        let time_factor = time_factor.unwrap_or(1.0);
-        let numbers = |lines: &[String]| -> Result<Vec<f64>, CardError> {
-            lines
-                .iter()
-                .flat_map(|l| l.split(',').map(str::trim).filter(|s| !s.is_empty()))
-                .map(|s| {
-                    s.parse::<f64>()
-                        .ok()
-                        .filter(|x| x.is_finite())
-                        .ok_or_else(|| err(src, format!("\"{s}\" is not a finite number")))
-                })
-                .collect()
-        };
-        let (key, data) = blocks
-            .iter()
-            .find(|(k, _)| k.starts_with("*HYPERFOAM"))
-            .ok_or_else(|| err(src, "no *HYPERFOAM keyword"))?;
-        let n = match key.split(',').find_map(|p| p.strip_prefix("N=")) {
-            None => 1,
-            Some(v) => v
-                .parse::<usize>()
-                .map_err(|_| err(src, format!("{key}: bad N")))?,
-        };
-        if !(1..=3).contains(&n) {
-            return Err(err(src, format!("{key}: N = {n}; 1 to 3 supported")));
-        }
-        let v = numbers(data)?;
-        // 3N constants, optionally one temperature
-        if v.len() < 3 * n || v.len() > 3 * n + 1 {
-            return Err(err(
-                src,
-                format!("*HYPERFOAM, N={n} needs {} values (mu, alpha pairs then nu), found {} (temperature-dependent cards are not supported)", 3 * n, v.len()),
-            ));
-        }
-        let (mut mu, mut alpha, mut beta) = (Vec::new(), Vec::new(), Vec::new());
-        for i in 0..n {
-            if v[2 * i] == 0.0 {
-                continue; // padding term
-            }
-            mu.push(v[2 * i] * stress_factor);
-            alpha.push(v[2 * i + 1]);
-            let nu = v[2 * n + i];
-            if !(nu > -1.0 && nu < 0.5) {
-                return Err(err(src, format!("nu{} = {nu} outside (-1, 0.5)", i + 1)));
-            }
-            beta.push(beta_from_nu(nu));
-        }
-        let hyperfoam = Hyperfoam::new(&mu, &alpha, &beta).map_err(|e| err(src, e.to_string()))?;
-        let prony = match blocks.iter().find(|(k, _)| k.starts_with("*VISCOELASTIC")) {
-            None => None,
-            Some((k, lines)) => {
-                if !k.contains("TIME=PRONY") {
-                    return Err(err(src, format!("{k}: only TIME=PRONY is supported")));
-                }
-                let (mut g, mut kk, mut tau) = (Vec::new(), Vec::new(), Vec::new());
-                for l in lines {
-                    let row = numbers(std::slice::from_ref(l))?;
-                    if row.len() != 3 {
-                        return Err(err(
-                            src,
-                            format!("*VISCOELASTIC line \"{l}\": expected g, k, tau"),
-                        ));
-                    }
-                    g.push(row[0]);
-                    kk.push(row[1]);
-                    tau.push(row[2] * time_factor);
-                }
-                Some(Prony::new(g, kk, tau).map_err(|e| err(src, e.to_string()))?)
-            }
-        };
+        let time_factor = units.time.unwrap_or(1.0);
         Ok(MaterialCard {
-            hyperfoam,
-            prony,
+            hyperfoam: inp_hyperfoam(&blocks, stress_factor, src)?,
+            prony: inp_prony(&blocks, time_factor, src)?,
             tangent_law: None,
             provenance: Provenance {
                 data: format!("read from {src}"),
@@ -394,6 +298,135 @@ impl MaterialCard {
             Err(err(src, "a material card must be a .json or .inp file"))
         }
     }
+}
+
+/// The `** turf-units:` comment of an `.inp` card: the factors from its stress and time units
+/// to GPa and s.
+#[derive(Default)]
+struct InpUnits {
+    stress: Option<f64>,
+    time: Option<f64>,
+}
+
+impl InpUnits {
+    /// Read the `key=unit` pairs `u` of a `turf-units:` line.
+    fn read(&mut self, u: &str, src: &str) -> Result<(), CardError> {
+        for kv in u.split_whitespace() {
+            let (k, v) = kv
+                .split_once('=')
+                .ok_or_else(|| err(src, format!("turf-units: \"{kv}\" is not key=unit")))?;
+            let dim = match k {
+                "stress" => Dimension::Pressure,
+                "time" => Dimension::Time,
+                _ => {
+                    return Err(err(
+                        src,
+                        format!("turf-units: unknown key \"{k}\" (stress, time)"),
+                    ))
+                }
+            };
+            // the internal units themselves convert exactly (no rounding of 1e9/1e9)
+            let f = if v == "GPa" || v == "s" {
+                1.0
+            } else {
+                parse_quantity(&format!("1 {v}"), dim)
+                    .map_err(|e| err(src, format!("turf-units: {e}")))?
+            };
+            if k == "stress" {
+                self.stress = Some(f);
+            } else {
+                self.time = Some(f);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The comma-separated finite numbers on `lines` of an `.inp` card.
+fn inp_numbers(lines: &[String], src: &str) -> Result<Vec<f64>, CardError> {
+    lines
+        .iter()
+        .flat_map(|l| l.split(',').map(str::trim).filter(|s| !s.is_empty()))
+        .map(|s| {
+            s.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| err(src, format!("\"{s}\" is not a finite number")))
+        })
+        .collect()
+}
+
+/// The `*HYPERFOAM` block (N ≤ 3; padding terms with μ = 0 dropped), μ in GPa.
+fn inp_hyperfoam(
+    blocks: &[(String, Vec<String>)],
+    stress_factor: f64,
+    src: &str,
+) -> Result<Hyperfoam, CardError> {
+    let (key, data) = blocks
+        .iter()
+        .find(|(k, _)| k.starts_with("*HYPERFOAM"))
+        .ok_or_else(|| err(src, "no *HYPERFOAM keyword"))?;
+    let n = match key.split(',').find_map(|p| p.strip_prefix("N=")) {
+        None => 1,
+        Some(v) => v
+            .parse::<usize>()
+            .map_err(|_| err(src, format!("{key}: bad N")))?,
+    };
+    if !(1..=3).contains(&n) {
+        return Err(err(src, format!("{key}: N = {n}; 1 to 3 supported")));
+    }
+    let v = inp_numbers(data, src)?;
+    // 3N constants, optionally one temperature
+    if v.len() < 3 * n || v.len() > 3 * n + 1 {
+        return Err(err(
+            src,
+            format!("*HYPERFOAM, N={n} needs {} values (mu, alpha pairs then nu), found {} (temperature-dependent cards are not supported)", 3 * n, v.len()),
+        ));
+    }
+    let (mut mu, mut alpha, mut beta) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..n {
+        if v[2 * i] == 0.0 {
+            continue; // padding term
+        }
+        mu.push(v[2 * i] * stress_factor);
+        alpha.push(v[2 * i + 1]);
+        let nu = v[2 * n + i];
+        if !(nu > -1.0 && nu < 0.5) {
+            return Err(err(src, format!("nu{} = {nu} outside (-1, 0.5)", i + 1)));
+        }
+        beta.push(beta_from_nu(nu));
+    }
+    Hyperfoam::new(&mu, &alpha, &beta).map_err(|e| err(src, e.to_string()))
+}
+
+/// The `*VISCOELASTIC, TIME=PRONY` block, if any, τ in s.
+fn inp_prony(
+    blocks: &[(String, Vec<String>)],
+    time_factor: f64,
+    src: &str,
+) -> Result<Option<Prony>, CardError> {
+    let Some((k, lines)) = blocks.iter().find(|(k, _)| k.starts_with("*VISCOELASTIC")) else {
+        return Ok(None);
+    };
+    if !k.contains("TIME=PRONY") {
+        return Err(err(src, format!("{k}: only TIME=PRONY is supported")));
+    }
+    let (mut g, mut kk, mut tau) = (Vec::new(), Vec::new(), Vec::new());
+    for l in lines {
+        let row = inp_numbers(std::slice::from_ref(l), src)?;
+        if row.len() != 3 {
+            return Err(err(
+                src,
+                format!("*VISCOELASTIC line \"{l}\": expected g, k, tau"),
+            ));
+        }
+        g.push(row[0]);
+        kk.push(row[1]);
+        tau.push(row[2] * time_factor);
+    }
+    Prony::new(g, kk, tau)
+        .map(Some)
+        .map_err(|e| err(src, e.to_string()))
 }
 
 #[cfg(test)]
