@@ -195,19 +195,13 @@ pub fn solve<P: Problem>(
         if gradient_test <= params.gradient_tol {
             break Termination::Gradient;
         }
-        let jtj = j.transpose() * &j;
         // One damped step; on rejection the damping grows and the step is retried.
         iterations += 1;
-        let mut a = jtj.clone();
-        for c in 0..n {
-            a[(c, c)] += lambda * jtj[(c, c)].max(f64::MIN_POSITIVE);
-        }
-        let Some(chol) = a.cholesky() else {
+        let Some(delta) = damped_step(&j, &g, lambda) else {
             lambda *= nu;
             nu *= 2.0;
             continue;
         };
-        let delta = chol.solve(&(-&g));
         let trial = &p + &delta;
         evaluations += 1;
         let trial_r = problem.residuals(trial.as_slice()).filter(finite);
@@ -221,14 +215,8 @@ pub fn solve<P: Problem>(
                     -1.0
                 };
                 if rho > 0.0 {
-                    let step_scaled: f64 = (0..n)
-                        .map(|c| (col_norms[c] * delta[c]).powi(2))
-                        .sum::<f64>()
-                        .sqrt();
-                    let p_scaled: f64 = (0..n)
-                        .map(|c| (col_norms[c] * p[c]).powi(2))
-                        .sum::<f64>()
-                        .sqrt();
+                    let step_scaled = scaled_norm(&col_norms, &delta);
+                    let p_scaled = scaled_norm(&col_norms, &p);
                     let actual_rel = (cost - trial_cost) / cost;
                     let predicted_rel = predicted / cost;
                     p = trial;
@@ -273,6 +261,27 @@ pub fn solve<P: Problem>(
             covariance,
         },
     ))
+}
+
+/// The Levenberg–Marquardt step δ of (JᵀJ + λ diag(JᵀJ)) δ = −g (Marquardt's scaling), None if the
+/// damped matrix does not factor.
+fn damped_step(j: &DMatrix<f64>, g: &DVector<f64>, lambda: f64) -> Option<DVector<f64>> {
+    let jtj = j.transpose() * j;
+    let mut a = jtj.clone();
+    for c in 0..jtj.ncols() {
+        a[(c, c)] += lambda * jtj[(c, c)].max(f64::MIN_POSITIVE);
+    }
+    Some(a.cholesky()?.solve(&(-g)))
+}
+
+/// |D v| with D = diag(column norms of J): a step or a point in the scaled variables.
+fn scaled_norm(col_norms: &[f64], v: &DVector<f64>) -> f64 {
+    col_norms
+        .iter()
+        .zip(v.iter())
+        .map(|(c, x)| (c * x).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// s²(JᵀJ)⁻¹, computed with the columns scaled to unit norm for conditioning.
