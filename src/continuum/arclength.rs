@@ -239,6 +239,32 @@ impl Curve<'_> {
         }
     }
 
+    /// `next` while the segment goes on past it; else the point between `pt` and `next` where
+    /// the control meets `target` (the segment ends within this step). Whether it ended.
+    fn land(
+        &mut self,
+        pt: &Point,
+        next: Point,
+        control: Control,
+        target: f64,
+        dir: f64,
+    ) -> Result<(Point, bool), String> {
+        let n = self.solid.dofs();
+        let v = control.value(pt.y[n], pt.ev.load);
+        let v_next = control.value(next.y[n], next.ev.load);
+        if !(dir * (v_next - target) >= 0.0) {
+            return Ok((next, false));
+        }
+        // correct onto control = target from the secant's point there
+        let f = (target - v) / (v_next - v);
+        let guess: Vec<f64> =
+            pt.y.iter()
+                .zip(&next.y)
+                .map(|(a, b)| a + f * (b - a))
+                .collect();
+        Ok((self.at(guess, control, target)?, true))
+    }
+
     /// The equilibrium at fixed control from the guess `y` (a segment's end, or the start).
     pub fn at(&mut self, y: Vec<f64>, control: Control, value: f64) -> Result<Point, String> {
         self.correct(y, &Constraint::Target { control, value })
@@ -374,20 +400,7 @@ impl Curve<'_> {
                 };
                 cutbacks = 0;
                 let v = control.value(pt.y[n], pt.ev.load);
-                let v_next = control.value(next.y[n], next.ev.load);
-                let reached = dir * (v_next - target) >= 0.0;
-                let next = if reached {
-                    // the segment ends within this step: correct onto control = target
-                    let f = (target - v) / (v_next - v);
-                    let guess: Vec<f64> =
-                        pt.y.iter()
-                            .zip(&next.y)
-                            .map(|(a, b)| a + f * (b - a))
-                            .collect();
-                    self.at(guess, control, target)?
-                } else {
-                    next
-                };
+                let (next, reached) = self.land(&pt, next, control, target, dir)?;
                 let v_end = control.value(next.y[n], next.ev.load);
                 time += (v_end - v).abs() / rate;
                 result.stats.increments += 1;
