@@ -22,12 +22,13 @@
 //! tangent of one end of the bracketing step.
 //!
 //! **Grid.** With a large μ the contact edge sweeps a radius many process zones wide; the grid is
-//! then fine only over a window around the edge ([`super::refinement::trace_grid`]) and is
+//! then fine only over a window around the edge ([`super::trace_grid::trace_grid`]) and is
 //! rebuilt around the edge (the state transferred and re-solved) when the edge nears an end of
 //! the window.
 
 use super::grid::{Grid, GridSpec};
 use super::solve::{Control, State, System, Tangent};
+use super::trace_grid::{start_gap, trace_grid};
 use super::{Cost, HalfspaceError, HalfspaceParams, Problem, Scales, Traction};
 use std::rc::Rc;
 use std::time::Instant;
@@ -323,14 +324,6 @@ pub(crate) fn locate<T: Traction>(
     })
 }
 
-/// Default starting central gap, beyond jump-in: 3 + 3μ^{3/7} (the bulge of the surface under
-/// the attraction grows like μ^{3/2}H^{−7/2} for a 9-3 tail, so instability sets in near H ~ μ^{3/7}).
-pub(crate) fn start_gap(mu: f64, params: &HalfspaceParams) -> f64 {
-    params
-        .start_gap
-        .unwrap_or_else(|| 3.0 + 3.0 * mu.powf(3.0 / 7.0))
-}
-
 /// A bracketing step of a special point: the two ends and the system they live on.
 struct Bracket<'a, T: Traction> {
     a: Solved,
@@ -367,18 +360,8 @@ pub(crate) struct Trace<'a, T: Traction> {
 /// over a few ℓ ahead of the edge, and the pressure has its crack-tip peak a few ℓ behind it.
 const REMESH_MARGIN: f64 = 0.25;
 
-/// The uniform zone must also cover every radius where the gap is below this (z₀) and the law
-/// stiffens with the gap (k̄ = dP̄/dH > 0, beyond the peak tension). A graded ring of width s at
-/// such a gap H is unstable on its own (the diagonal 1 − A_ii k̄(H) of the Jacobian turns
-/// negative, a discrete jump of one ring) once its self-compliance A_ii ∝ μ^{3/2}s times k̄
-/// exceeds 1; beyond H = 3 the LJ stiffness is below 0.1 γ/z₀² (9-3: 0.098), about a fifth of
-/// its value at H = 2, so graded cells are safe there. Where k̄ < 0 (gaps below the peak
-/// tension, inside the contact) the diagonal exceeds 1 whatever the cell, and the grid may be
-/// graded: at large μ that is most of the contact (a flat neck at H ≈ 1 on the unstable branch).
-pub(crate) const NEAR_GAP: f64 = 3.0;
-
 /// The band of radii whose nodes need the uniform zone: (innermost, outermost) node radius
-/// with gap below [`NEAR_GAP`] and k̄ > 0; (0, 0) if none. The inner end is where the gap opens
+/// with gap below [`super::solve::NEAR_GAP`] and k̄ > 0; (0, 0) if none. The inner end is where the gap opens
 /// through the peak tension — the contact edge in the process-zone sense (the crack tip at
 /// large μ), which lies outside [`System::contact_radius`] (where p changes sign) — and is where
 /// the trace and pull-off grids centre their fine zone.
@@ -548,7 +531,7 @@ pub fn trace_curve<T: Traction>(
     problem.check_validated_range()?;
     let start = Instant::now();
     let mut cost = Cost::default();
-    let window = |a: f64, near: f64| super::refinement::trace_grid(problem, params, a, near);
+    let window = |a: f64, near: f64| trace_grid(problem, params, a, near);
     let trace = trace_on(problem, &window, params, &mut cost)?;
     cost.wall_time = start.elapsed().as_secs_f64();
     let sys = &trace.pull_off_system;

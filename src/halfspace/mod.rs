@@ -47,6 +47,7 @@ pub mod grid;
 pub mod influence;
 pub mod refinement;
 pub mod solve;
+pub mod trace_grid;
 
 pub use curve::{trace_curve, Curve, CurvePoint};
 pub use refinement::{pull_off, PullOff, RefinementLevel};

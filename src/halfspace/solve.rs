@@ -24,6 +24,16 @@ use super::{HalfspaceError, HalfspaceParams, Problem, Traction};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
+/// The uniform zone must also cover every radius where the gap is below this (z₀) and the law
+/// stiffens with the gap (k̄ = dP̄/dH > 0, beyond the peak tension). A graded ring of width s at
+/// such a gap H is unstable on its own (the diagonal 1 − A_ii k̄(H) of the Jacobian turns
+/// negative, a discrete jump of one ring) once its self-compliance A_ii ∝ μ^{3/2}s times k̄
+/// exceeds 1; beyond H = 3 the LJ stiffness is below 0.1 γ/z₀² (9-3: 0.098), about a fifth of
+/// its value at H = 2, so graded cells are safe there. Where k̄ < 0 (gaps below the peak
+/// tension, inside the contact) the diagonal exceeds 1 whatever the cell, and the grid may be
+/// graded: at large μ that is most of the contact (a flat neck at H ≈ 1 on the unstable branch).
+pub(crate) const NEAR_GAP: f64 = 3.0;
+
 /// Step halvings tried before a Newton step is accepted anyway.
 const MAX_BACKTRACKS: usize = 8;
 
@@ -304,12 +314,12 @@ impl<'a, T: Traction> System<'a, T> {
 
     /// Indices of the nodes whose gap is below `NEAR_GAP` where the law stiffens with the gap
     /// (k̄ > 0): the rings that could jump on their own on a coarse cell
-    /// ([`super::curve::NEAR_GAP`]).
+    /// ([`NEAR_GAP`]).
     pub fn soft_nodes(&self, state: &State) -> Vec<usize> {
         (0..self.len())
             .filter(|&i| {
                 let h = state.gaps[i];
-                h < super::curve::NEAR_GAP && self.problem.scaled_law(h).1 > 0.0
+                h < NEAR_GAP && self.problem.scaled_law(h).1 > 0.0
             })
             .collect()
     }

@@ -12,7 +12,7 @@
 //!   (`turf.realisations`) holds min(realisations, threads) turfs at once;
 //! - halfspace: the dense influence matrix, the bordered Jacobian, its LU factor and the
 //!   previous grid's matrix while remeshing, 4 × 8n² for the n nodes of the finest grid
-//!   ([`crate::halfspace::refinement::estimated_nodes`]);
+//!   ([`crate::halfspace::trace_grid::estimated_nodes`]);
 //! - continuum: [`FE_BYTES_PER_ELEMENT`] per element up to `mesh.max_elements` (the mesh
 //!   generator stops at that count before allocating more).
 //!
@@ -405,7 +405,7 @@ fn halfspace_nodes(scene: &Scene) -> Option<f64> {
         cells_per_zone: hs.cells_per_zone,
         ..crate::halfspace::HalfspaceParams::default()
     };
-    Some(crate::halfspace::refinement::estimated_nodes(
+    Some(crate::halfspace::trace_grid::estimated_nodes(
         &problem,
         &params,
         hs.refinement,
