@@ -31,34 +31,26 @@
 //! instead of recomputing it.
 
 use super::ensemble::{self, PathEnsemble};
+use super::turf_setup::{failed, static_solver, turf_system, vdw_params};
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::analysis::{Branch, CurveAnalysis};
-use crate::discrete::broadphase::PeriodicBox;
 use crate::discrete::checkpoint::{Checkpoint, SavedRelaxation};
 use crate::discrete::drive::{
     compress, CompressionParams, DriveError, Resume, SavedStep, StepRecord,
 };
 use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
-use crate::discrete::model::{
-    relax, SphereContact, State, StaticSolver, StickSettings, TurfSystem,
-};
-use crate::discrete::platen::{Shape, DEFAULT_WALL_STIFFNESS};
+use crate::discrete::model::{relax, State, StaticSolver, TurfSystem};
 use crate::discrete::rod::RodStiffness;
-use crate::discrete::solve_fire::FireParams;
 use crate::discrete::solve_newton::{is_local_minimum, minimize_newton, NewtonParams};
 use crate::discrete::structure::Structure;
-use crate::discrete::turf::{generate_turf, Turf, TurfParams};
-use crate::discrete::vdw::{VdwKernel, VdwParams};
+use crate::discrete::turf::Turf;
+use crate::discrete::vdw::VdwParams;
 use crate::discrete::vdw_term::TubeLayout;
-use crate::laws::SurfaceLaw;
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
 use crate::report::vtk::{CellKind, DataArray, Grid};
 use crate::report::{write_json, ReportError};
-use crate::scene::compression::{
-    Compression, DiscreteSolver, Indenter, Platen, SphereAdhesion, Tangential,
-    DEFAULT_STICK_STIFFNESS,
-};
+use crate::scene::compression::{Compression, Indenter, Platen};
 use crate::scene::rods::End;
 use crate::scene::{ResolvedScene, Stage};
 use crate::theory::micromech::ShapeFactor;
@@ -66,9 +58,6 @@ use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// Segments per tube when `[turf.tube] segment` is not given (the scene reference's default).
-const DEFAULT_SEGMENTS_PER_TUBE: f64 = 20.0;
 
 /// The drive's checkpoint in the output folder, rewritten after every step (`--resume`).
 pub const CHECKPOINT: &str = "discrete_checkpoint.json";
@@ -86,13 +75,6 @@ pub const LOADING_CSV: &str = "stress_strain_loading.csv";
 /// See [`LOADING_CSV`].
 pub(super) const UNLOADING_CSV: &str = "stress_strain_unloading.csv";
 
-pub(super) fn failed(message: String) -> StageError {
-    StageError::Failed {
-        stage: Stage::Discrete,
-        message,
-    }
-}
-
 fn report(source: ReportError) -> StageError {
     StageError::Report {
         stage: Stage::Discrete,
@@ -102,28 +84,6 @@ fn report(source: ReportError) -> StageError {
 
 /// The sphere's load–depth curve (every step: depth below the first contact height, load).
 const LOAD_DEPTH_CSV: &str = "load_depth.csv";
-
-/// The sphere's adhesion (the `[adhesion]` law, shifted or not) and tangential hold.
-fn sphere_contact(s: &crate::scene::Scene, k: &Compression) -> Result<SphereContact, StageError> {
-    let adhesion = match (k.sphere_adhesion, &s.adhesion) {
-        (SphereAdhesion::None, _) => None,
-        (_, None) => {
-            return Err(failed(
-                "compression.sphere_adhesion needs [adhesion]".into(),
-            ))
-        }
-        (SphereAdhesion::Lj, Some(a)) => Some(SurfaceLaw::from(a.law())),
-        (SphereAdhesion::LjShifted, Some(a)) => Some(
-            a.surface_law(s.turf.as_ref())
-                .map_err(|e| failed(format!("adhesion.thermal_shift: {e}")))?,
-        ),
-    };
-    let stick = (k.sphere_tangential == Tangential::Stick).then(|| StickSettings {
-        stiffness: k.stick_stiffness.map_or(DEFAULT_STICK_STIFFNESS, |v| v.0),
-        release: k.stick_release.map(|f| f.0),
-    });
-    Ok(SphereContact { adhesion, stick })
-}
 
 /// Run the stage: the rods, one turf, or an ensemble of `turf.realisations` turfs.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
@@ -372,39 +332,6 @@ impl Finished {
             warnings: self.warnings,
         }
     }
-}
-
-/// Generate the turf of `seed` and build its system: tubes, contacts (with their parameters),
-/// the indenter of `[compression]`.
-pub(super) fn turf_system(
-    s: &crate::scene::Scene,
-    t: &crate::scene::turf::Turf,
-    k: &Compression,
-    seed: u64,
-) -> Result<(Turf, TurfSystem, Option<VdwParams>), StageError> {
-    let mut turf = generate_turf(&turf_params(t, seed)).map_err(|e| failed(e.to_string()))?;
-    if !t.periodic {
-        turf.periodic = PeriodicBox::default();
-    }
-    let vdw = t.vdw.as_ref().map(vdw_params).transpose()?;
-    let mut sys = TurfSystem::from_turf(
-        &turf,
-        t.tube.youngs.0,
-        vdw.as_ref(),
-        DEFAULT_WALL_STIFFNESS,
-        t.box_size[0].0 * t.box_size[1].0,
-    )
-    .map_err(|e| failed(e.to_string()))?;
-    if let (Indenter::Sphere, Some(r)) = (k.indenter, k.sphere_radius) {
-        sys.indenter = Shape::Sphere {
-            radius: r.0,
-            x: 0.5 * t.box_size[0].0,
-            y: 0.5 * t.box_size[1].0,
-        };
-        let contact = sphere_contact(s, k)?;
-        sys.set_sphere_contact(&contact, &turf.layout(), &turf.coordinates());
-    }
-    Ok((turf, sys, vdw))
 }
 
 /// Generate, relax and compress one realisation, writing its files into its folder. A drive
@@ -1077,73 +1004,6 @@ fn run_rods(
         files,
         warnings: Vec::new(),
     })
-}
-
-/// The `[turf]` section as generation parameters (no radius scatter: the scene has none).
-fn turf_params(t: &crate::scene::turf::Turf, seed: u64) -> TurfParams {
-    let g = &t.growth;
-    TurfParams {
-        density: t.density.0,
-        box_x: t.box_size[0].0,
-        box_y: t.box_size[1].0,
-        radius_outer: t.tube.r_o.0,
-        radius_inner: t.tube.r_i.0,
-        radius_cv: 0.0,
-        length_mean: g.length.0,
-        length_cv: g.length_spread.0,
-        tilt_spread: g.tilt.0,
-        mean_tilt: g.mean_tilt.0,
-        mean_azimuth: g.mean_azimuth.0,
-        wave_amplitude: g.waviness.0,
-        wave_coherence: g.wave_coherence.0,
-        // a straight tube (waviness 0) ignores the wavelength
-        wave_length: g.wavelength.map_or(g.length.0, |w| w.0),
-        segment_length: t
-            .tube
-            .segment
-            .map_or(g.length.0 / DEFAULT_SEGMENTS_PER_TUBE, |l| l.0),
-        seed,
-    }
-}
-
-/// `[turf.vdw]` as interaction parameters: γ_L at the scene's tube radius, the equilibrium
-/// gap, the cutoff; the smooth switch-off starts at the engine's default gap (1 nm) or, for a
-/// shorter cutoff, half-way between the equilibrium gap and the cutoff.
-fn vdw_params(v: &crate::scene::turf::Vdw) -> Result<VdwParams, StageError> {
-    let d = VdwParams::default();
-    let cut = v.cutoff.map_or(d.gap_cut, |c| c.0);
-    let gap = v.separation.0;
-    let p = VdwParams {
-        gamma_l: v.gamma_line.0,
-        gap_eq: gap,
-        gap_cut: cut,
-        gap_switch: d.gap_switch.min(0.5 * (gap + cut)),
-        kernel: match v.kernel {
-            crate::scene::turf::VdwKernel::Quadrature => VdwKernel::Quadrature,
-            crate::scene::turf::VdwKernel::Tabulated => VdwKernel::Tabulated,
-        },
-        ..d
-    };
-    p.validate().map_err(|e| failed(e.to_string()))?;
-    Ok(p)
-}
-
-/// The scene's solver with its tolerance (absolute, nN) and iteration limit.
-pub(super) fn static_solver(k: &Compression) -> StaticSolver {
-    match k.solver {
-        DiscreteSolver::Fire => StaticSolver::Fire(FireParams {
-            tol_abs: k.tolerance.0,
-            tol_rel: 0.0,
-            max_iterations: k.max_iterations,
-            ..FireParams::default()
-        }),
-        DiscreteSolver::Newton => StaticSolver::Newton(NewtonParams {
-            tol_abs: k.tolerance.0,
-            tol_rel: 0.0,
-            max_iterations: k.max_iterations,
-            ..NewtonParams::default()
-        }),
-    }
 }
 
 /// Loading (step 0 to the peak) and unloading (peak to the end, reversed to ascending strain).

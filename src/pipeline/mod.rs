@@ -39,6 +39,7 @@ pub mod mpi;
 mod rve_stage;
 pub mod shard;
 mod theory_stage;
+mod turf_setup;
 
 use crate::report::{csv::Table, write_json, ReportError};
 use crate::scene::{Loaded, ResolvedScene, Stage};

@@ -12,8 +12,8 @@
 //! checked against the energy it is the derivative of (path-dependent snaps between steps
 //! widen it; a smooth path gives the trapezoid's O(Δε²)).
 
-use super::discrete_stage::{failed, static_solver, turf_system};
 use super::ensemble;
+use super::turf_setup::{failed, static_solver, turf_system};
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::drive::CompressionParams;
 use crate::discrete::model::relax;
