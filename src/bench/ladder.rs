@@ -16,14 +16,11 @@
 //!   depths, the card's error and the speed-ups.
 
 use super::presets::tabor_sphere;
-use super::sweeps::{hertz_load, HERTZ_E_STAR};
+use super::sweeps::{cantilever_deflection, hertz_load, HERTZ_E_STAR};
 use super::{timed, Cost, Row};
 use crate::continuum::adhesion::normalised_pull_off;
 use crate::continuum::element::Kinematics;
 use crate::continuum::{run_indent, FeError, IndentParams, IndentResult};
-use crate::discrete::rod::RodStiffness;
-use crate::discrete::rod_problems::RodProblem;
-use crate::discrete::solve_newton::NewtonParams;
 use crate::halfspace::{pull_off, HalfspaceParams, Problem};
 use crate::laws::LjKind;
 use crate::pipeline::{self, RunOptions, RunReport, StageError, StageRecord};
@@ -158,27 +155,6 @@ pub fn hertz_rows() -> Vec<Row> {
             )
         })
         .collect()
-}
-
-/// Tip deflection δ_v/L of a clamped tube of `segments` segments at PL²/K = 2, reached by load
-/// continuation through PL²/K = 1, with the Newton iterations taken.
-pub fn cantilever_deflection(segments: usize) -> Result<(f64, usize), String> {
-    let length = 7000.0;
-    let stiff = RodStiffness::turf_tube();
-    let mut problem =
-        RodProblem::cantilever(segments, length, stiff, [0.0; 3]).map_err(|e| e.to_string())?;
-    let tip = problem.tip();
-    let mut iterations = 0;
-    for alpha in [1.0, 2.0] {
-        let p = alpha * stiff.bending / (length * length);
-        problem.loads = crate::discrete::constraints::PointLoads::new();
-        problem.loads.add(tip, [0.0, -p, 0.0]);
-        let info = problem
-            .solve_newton(&NewtonParams::default())
-            .map_err(|e| e.to_string())?;
-        iterations += info.cost.iterations;
-    }
-    Ok((-problem.x[3 * tip + 1] / length, iterations))
 }
 
 /// The large-deflection cantilever by the discrete engine (50 segments).

@@ -9,12 +9,16 @@
 //!   P(t) = (4/3)(√R/(1 − ν²)) ∫₀ᵗ E(t − s) d[δ^(3/2)](s), exact for a monotone contact at small
 //!   strain with shear and bulk relaxing alike (seed 5.8); the ratio cancels the mesh error;
 //! - discrete segments per tube on the Bisshopp–Drucker cantilever.
+//!
+//! The runs the ladder shares with them (the FE Hertz load, the cantilever deflection) live here.
 
-use super::ladder::cantilever_deflection;
 use super::{timed, Sweep, SweepPoint};
 use crate::continuum::element::Kinematics;
 use crate::continuum::material::viscoelastic::PronyTerm;
 use crate::continuum::{run_indent, IndentParams, Segment};
+use crate::discrete::rod::RodStiffness;
+use crate::discrete::rod_problems::RodProblem;
+use crate::discrete::solve_newton::NewtonParams;
 use crate::halfspace::{pull_off, trace_curve, HalfspaceParams, Problem};
 use crate::laws::LjKind;
 
@@ -192,6 +196,27 @@ pub fn rod_segments(quick: bool) -> Sweep {
         settings,
         |n| cantilever_deflection(n as usize).map(|(d, _)| (d, Some(n as usize + 1))),
     )
+}
+
+/// Tip deflection δ_v/L of a clamped tube of `segments` segments at PL²/K = 2, reached by load
+/// continuation through PL²/K = 1, with the Newton iterations taken.
+pub fn cantilever_deflection(segments: usize) -> Result<(f64, usize), String> {
+    let length = 7000.0;
+    let stiff = RodStiffness::turf_tube();
+    let mut problem =
+        RodProblem::cantilever(segments, length, stiff, [0.0; 3]).map_err(|e| e.to_string())?;
+    let tip = problem.tip();
+    let mut iterations = 0;
+    for alpha in [1.0, 2.0] {
+        let p = alpha * stiff.bending / (length * length);
+        problem.loads = crate::discrete::constraints::PointLoads::new();
+        problem.loads.add(tip, [0.0, -p, 0.0]);
+        let info = problem
+            .solve_newton(&NewtonParams::default())
+            .map_err(|e| e.to_string())?;
+        iterations += info.cost.iterations;
+    }
+    Ok((-problem.x[3 * tip + 1] / length, iterations))
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 //! number is in internal units (nm, nN, s, GPa, J/m²). `--json` prints the result as JSON on
 //! stdout; otherwise a short human summary is printed.
 
+use super::theory_law::LawName;
 use anyhow::{bail, Context};
 use clap::{Args, Subcommand, ValueEnum};
 use serde_json::{json, Value};
@@ -79,21 +80,6 @@ impl From<ControlName> for Control {
         match c {
             ControlName::Load => Control::Load,
             ControlName::Displacement => Control::Displacement,
-        }
-    }
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-pub(super) enum LawName {
-    Lj93,
-    Lj104,
-}
-
-impl From<LawName> for LjKind {
-    fn from(l: LawName) -> LjKind {
-        match l {
-            LawName::Lj93 => LjKind::Lj93,
-            LawName::Lj104 => LjKind::Lj104,
         }
     }
 }

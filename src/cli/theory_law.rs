@@ -4,7 +4,7 @@
 //! CSV and a plot (the seed's lost Fig 5.3).
 
 use anyhow::{bail, Context};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use serde_json::{json, Value};
 use std::path::PathBuf;
 use turf::laws::{LennardJones, LjKind, SurfaceLaw, ThermallyShifted};
@@ -14,6 +14,22 @@ use turf::theory::positive;
 use turf::theory::process_zone::process_zone;
 use turf::theory::thermal::Cantilever;
 use turf::units::{parse_quantity, Dimension};
+
+/// The Lennard-Jones law a `theory` command takes (`--law`).
+#[derive(Clone, Copy, ValueEnum)]
+pub(super) enum LawName {
+    Lj93,
+    Lj104,
+}
+
+impl From<LawName> for LjKind {
+    fn from(l: LawName) -> LjKind {
+        match l {
+            LawName::Lj93 => LjKind::Lj93,
+            LawName::Lj104 => LjKind::Lj104,
+        }
+    }
+}
 
 /// Points of the p(h) table.
 const TABLE_POINTS: usize = 600;
@@ -28,7 +44,7 @@ const TABLE_START: f64 = 0.98;
 pub struct LawArgs {
     /// the Lennard-Jones exponents: lj93 or lj104
     #[arg(long, value_enum, default_value = "lj104")]
-    law: super::theory::LawName,
+    law: LawName,
     /// work of adhesion γ, e.g. "0.46 J/m^2"
     #[arg(long)]
     gamma: String,
