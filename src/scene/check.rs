@@ -61,3 +61,14 @@ impl Checker {
         self.bad(key, format!("is not used {why}; remove it"));
     }
 }
+
+/// A number to six significant figures, for messages; exponent form beyond 1e-4 … 1e7 in magnitude.
+pub fn sig(x: f64) -> String {
+    let v = format!("{:.5e}", x).parse::<f64>().unwrap_or(x);
+    // very large or small magnitudes in exponent form: 1e-300 is "1e-300", not 300 digits
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}

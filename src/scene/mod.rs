@@ -31,12 +31,14 @@ pub mod scene_meta;
 pub mod schedule;
 pub mod solver;
 mod source;
+pub mod stage;
 pub mod sweep;
 pub mod turf;
 pub mod viscoelastic;
 
 pub use error::{Problem, SceneError};
-pub use plan::{Derived, Plan, ResolvedScene, Stage};
+pub use plan::{Derived, Plan, ResolvedScene};
+pub use stage::Stage;
 
 use check::Checker;
 use overrides::Override;

@@ -10,6 +10,7 @@
 //! ℓ = E*γ/σ_peak² that sizes adhesive meshes.
 
 use super::adhesion::ThermalShift;
+pub use super::check::sig;
 use super::check::Checker;
 use super::homogenize::Curve;
 use super::indenter::{Shape, BERKOVICH_EQUIVALENT_CONE_DEG};
@@ -22,41 +23,13 @@ use super::mesh::{
 use super::resources::Memory;
 use super::schedule::ScheduleTotals;
 use super::solver::{Kinematics, Solver};
+pub use super::stage::Stage;
 use super::Scene;
 use crate::theory::process_zone::process_zone;
 use crate::theory::{hertz, jkr, tabor, Sphere};
 use serde::Serialize;
 use std::fmt;
 use std::path::PathBuf;
-
-/// A stage of the pipeline, in the order stages run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Stage {
-    /// closed forms: Hertz, JKR, DMT, Maugis–Dugdale (microseconds)
-    Theory,
-    /// small-strain half-space with LJ tractions (milliseconds to seconds)
-    Halfspace,
-    /// the turf or rods as tubes (minutes to hours)
-    Discrete,
-    /// fit a material card to a stress–strain curve
-    Homogenize,
-    /// axisymmetric finite-deformation FE indentation (seconds to minutes)
-    Continuum,
-}
-
-impl Stage {
-    /// The stage's name as printed and in `summary.json`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Stage::Theory => "theory",
-            Stage::Halfspace => "halfspace",
-            Stage::Discrete => "discrete",
-            Stage::Homogenize => "homogenize",
-            Stage::Continuum => "continuum",
-        }
-    }
-}
 
 impl fmt::Display for Stage {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
@@ -162,17 +135,6 @@ pub struct Derived {
     /// number of tubes in the turf's box
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tube_count: Option<f64>,
-}
-
-/// A number to six significant figures, for messages; exponent form beyond 1e-4 … 1e7 in magnitude.
-pub fn sig(x: f64) -> String {
-    let v = format!("{:.5e}", x).parse::<f64>().unwrap_or(x);
-    // very large or small magnitudes in exponent form: 1e-300 is "1e-300", not 300 digits
-    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        v.to_string()
-    }
 }
 
 /// Mesh sizes with every default filled, nm.

@@ -20,8 +20,9 @@
 //! KiB, MiB, GiB, TiB) when set, else half of `MemTotal` in `/proc/meminfo`, else
 //! [`FALLBACK_CEILING`].
 
+use super::check::sig;
 use super::check::Checker;
-use super::plan::{sig, Stage};
+use super::stage::Stage;
 use super::Scene;
 use serde::Serialize;
 
