@@ -5,7 +5,8 @@
 //! Run: `cargo bench --bench ladder` (or `-- --quick`).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use turf::bench::ladder::{cantilever_deflection, hertz_rows, pull_off_rows};
+use turf::bench::ladder::{hertz_rows, pull_off_rows};
+use turf::bench::sweeps::cantilever_deflection;
 
 fn bench_ladder(c: &mut Criterion) {
     let mut group = c.benchmark_group("ladder");

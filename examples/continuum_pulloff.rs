@@ -7,8 +7,8 @@
 //! unset: the default, adaptive with adhesion), `BAND` (the band's half-width in process zones).
 
 use turf::bench::presets::tabor_sphere;
-use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
+use turf::continuum::events::normalised_pull_off;
 use turf::continuum::run_indent;
 use turf::halfspace::{pull_off, HalfspaceParams, Problem};
 use turf::laws::LjKind;

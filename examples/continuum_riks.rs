@@ -10,8 +10,8 @@
 //! the solid is `tabor_sphere`'s compressible neo-Hookean (hyperfoam α = 2, β = 0, μ = E*/2).
 
 use turf::bench::presets::tabor_sphere;
-use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
+use turf::continuum::events::normalised_pull_off;
 use turf::continuum::events::{curve_distance, dissipation_split, spring_pull_off};
 use turf::continuum::indent::Method;
 use turf::continuum::{run_indent, IndentParams, IndentResult};

@@ -18,8 +18,8 @@
 use super::presets::tabor_sphere;
 use super::sweeps::{cantilever_deflection, hertz_load, HERTZ_E_STAR};
 use super::{timed, Cost, Row};
-use crate::continuum::adhesion::normalised_pull_off;
 use crate::continuum::element::Kinematics;
+use crate::continuum::events::normalised_pull_off;
 use crate::continuum::{run_indent, FeError, IndentParams, IndentResult};
 use crate::halfspace::{pull_off, HalfspaceParams, Problem};
 use crate::laws::LjKind;

@@ -14,7 +14,6 @@ use super::indenter::Indenter;
 use crate::laws::SurfaceLaw;
 use crate::theory::{hertz, jkr, process_zone, tabor, Sphere, TheoryError};
 use serde::{Deserialize, Serialize};
-use std::f64::consts::PI;
 
 /// Elements across the process zone E\*γ/σ_peak² (PHYSICS.md: ≥ 10).
 pub const ZONE_ELEMENTS: f64 = 10.0;
@@ -79,17 +78,6 @@ pub fn sizing_radius(
         .and_then(|s| jkr::contact_radius(&s, p_hertz))
         .unwrap_or(0.0);
     hertz.max(jkr).max(2.0 * (r * a.law.z0()).sqrt())
-}
-
-/// The normalised pull-off P/(πγR) of a run: the passed load minimum, or under load control
-/// the load where the indenter separated (None if neither was reached).
-pub fn normalised_pull_off(r: &super::IndentResult) -> Option<f64> {
-    let a = r.params.adhesion?;
-    let p = match r.separated_nN {
-        Some(p) => p,
-        None => super::events::detect(&r.rows).pull_off?.load_nN,
-    };
-    Some(p / (PI * a.law.gamma() * r.params.indenter.radius()))
 }
 
 #[cfg(test)]

@@ -28,8 +28,9 @@
 //!   equilibrium gap z₀, i.e. where the LJ pressure changes sign from repulsive to attractive
 //!   ([`super::contact::Contact::contact_radius`]), as in the half-space solver.
 
-use super::indent::Row;
+use super::indent::{IndentResult, Row};
 use serde::Serialize;
+use std::f64::consts::PI;
 
 /// Change of the central gap per change of the drive above which an increment is a jump: on a
 /// quasi-static branch the ratio is of order one (−1 for a rigid surface), during a damped
@@ -302,6 +303,17 @@ pub fn loading_slope(rows: &[Row]) -> Option<f64> {
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     (sxx > 0.0).then(|| sxy / sxx)
+}
+
+/// The normalised pull-off P/(πγR) of a run: the passed load minimum, or under load control
+/// the load where the indenter separated (None if neither was reached).
+pub fn normalised_pull_off(r: &IndentResult) -> Option<f64> {
+    let a = r.params.adhesion?;
+    let p = match r.separated_nN {
+        Some(p) => p,
+        None => detect(&r.rows).pull_off?.load_nN,
+    };
+    Some(p / (PI * a.law.gamma() * r.params.indenter.radius()))
 }
 
 #[cfg(test)]

@@ -3,8 +3,8 @@
 //! fast; the full tables come from `cargo run --example continuum_pulloff`.
 
 use turf::bench::presets::tabor_sphere;
-use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
+use turf::continuum::events::normalised_pull_off;
 use turf::continuum::indent::resolve;
 use turf::continuum::machine::Machine;
 use turf::continuum::mesh::{edge_block, graded_block, EdgeZone};

@@ -5,8 +5,8 @@
 //! `cargo run --release --example continuum_riks -- 2`.
 
 use turf::bench::presets::tabor_sphere;
-use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
+use turf::continuum::events::normalised_pull_off;
 use turf::continuum::events::{curve_distance, spring_pull_off};
 use turf::continuum::indent::Method;
 use turf::continuum::machine::Machine;

@@ -5,8 +5,8 @@
 //! docs/validation.md, "Extremes").
 
 use turf::bench::presets::tabor_sphere;
-use turf::continuum::adhesion::normalised_pull_off;
 use turf::continuum::element::Kinematics;
+use turf::continuum::events::normalised_pull_off;
 use turf::continuum::machine::Machine;
 use turf::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use turf::continuum::material::linear::LinearElastic;
