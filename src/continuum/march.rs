@@ -14,7 +14,7 @@
 
 use super::arclength::Curve;
 use super::assembly::{Assembler, Evaluation, Solid};
-use super::contact::{Contact, Damping, SurfaceLaw};
+use super::contact::{Contact, Damping, ProfilePoint, SurfaceLaw};
 use super::element::Kinematics;
 use super::indent::{
     band_span, build_mesh, new_solid, resolve, snapshot, Adaptation, IndentParams, IndentResult,
@@ -150,11 +150,10 @@ impl<'a> March<'a> {
             2.0 * std::f64::consts::PI * ad.law.gamma() * p.indenter.radius()
         });
         let force_floor = (1e-6 * resolved.reduced_modulus_GPa * a * a).max(adhesive_force);
-        let small = p.kinematics == Kinematics::Small;
         let ndof = solid.dofs();
         let mut u = vec![0.0; ndof + 1];
         u[ndof] = p.start;
-        let profile0 = contact.profile(&current(&solid, &u), &solid.nodes, p.start, small);
+        let profile0 = profile(&contact, &solid, &u, p.kinematics);
         let gaps: Vec<f64> = profile0.iter().map(|q| q.gap).collect();
         let span = band_span(&contact, &profile0);
         let history = vec![0.0; solid.history_len() * solid.elements.len()];
@@ -400,10 +399,7 @@ impl<'a> March<'a> {
             Err(e) => return Ok(Increment::Failed(e)),
         };
         if let Some(z) = &self.zone {
-            let small = p.kinematics == Kinematics::Small;
-            let trial =
-                self.contact
-                    .profile(&current(&self.solid, &x), &self.solid.nodes, x[ndof], small);
+            let trial = profile(&self.contact, &self.solid, &x, p.kinematics);
             let (lo, hi) = band_span(&self.contact, &trial);
             let reach = EDGE_SAFE * z.half_width;
             if (lo < z.inner - reach || hi > z.outer + reach) && may_remesh {
@@ -441,13 +437,7 @@ impl<'a> March<'a> {
         self.u_prev = std::mem::replace(&mut self.u, x);
         self.last_dv = inc.dv;
         self.dissipated += 2.0 * ev.damping_energy;
-        let small = p.kinematics == Kinematics::Small;
-        let profile = self.contact.profile(
-            &current(&self.solid, &self.u),
-            &self.solid.nodes,
-            depth,
-            small,
-        );
+        let profile = profile(&self.contact, &self.solid, &self.u, p.kinematics);
         self.gaps.clear();
         self.gaps.extend(profile.iter().map(|q| q.gap));
         self.drive = inc.mode.position(depth, ev.load);
@@ -513,15 +503,10 @@ impl<'a> March<'a> {
         let stats = self.asm.stats;
         self.asm = Assembler::new(&self.solid, Some(&self.contact))?;
         self.asm.stats = stats;
-        let n = self.solid.dofs();
-        let small = p.kinematics == Kinematics::Small;
-        let profile = self.contact.profile(
-            &current(&self.solid, &self.u),
-            &self.solid.nodes,
-            self.u[n],
-            small,
-        );
-        self.gaps = profile.iter().map(|q| q.gap).collect();
+        self.gaps = profile(&self.contact, &self.solid, &self.u, p.kinematics)
+            .iter()
+            .map(|q| q.gap)
+            .collect();
         self.result.adaptation.push(Adaptation {
             increment: self.result.stats.increments,
             time_s: self.time,
@@ -550,12 +535,20 @@ fn segment_span(seg: &Segment, machine: Machine, drive: f64, load: f64) -> (f64,
     }
 }
 
-/// Current node positions X + u.
-fn current(solid: &Solid, u: &[f64]) -> Vec<[f64; 2]> {
-    solid
+/// The contact profile of the state `x` = (u, δ) of `solid`: the surface at the current node
+/// positions X + u against the indenter at depth δ.
+fn profile(
+    contact: &Contact,
+    solid: &Solid,
+    x: &[f64],
+    kinematics: Kinematics,
+) -> Vec<ProfilePoint> {
+    let current: Vec<[f64; 2]> = solid
         .nodes
         .iter()
         .enumerate()
-        .map(|(n, x)| [x[0] + u[2 * n], x[1] + u[2 * n + 1]])
-        .collect()
+        .map(|(n, p)| [p[0] + x[2 * n], p[1] + x[2 * n + 1]])
+        .collect();
+    let small = kinematics == Kinematics::Small;
+    contact.profile(&current, &solid.nodes, x[solid.dofs()], small)
 }
