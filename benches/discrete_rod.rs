@@ -72,7 +72,7 @@ fn static_cantilever(c: &mut Criterion) {
             || problem.clone(),
             |mut pr| {
                 pr.solve_newton(&NewtonParams {
-                    tol_rel: 1e-6,
+                    rtol: 1e-6,
                     ..NewtonParams::default()
                 })
                 .unwrap()
@@ -85,7 +85,7 @@ fn static_cantilever(c: &mut Criterion) {
             || problem.clone(),
             |mut pr| {
                 pr.solve_fire(&FireParams {
-                    tol_rel: 1e-6,
+                    rtol: 1e-6,
                     ..FireParams::default()
                 })
                 .unwrap()

@@ -30,7 +30,8 @@ use super::contact::Contact;
 use super::element::Kinematics;
 use super::indent::{snapshot, IndentParams, IndentResult, Progress, Row, Segment};
 use super::machine::Machine;
-use super::newton::{converged, norm, NewtonParams};
+use super::newton::NewtonParams;
+use crate::numerics::newton::{self, norm, NewtonError, NewtonProblem, Trial};
 
 /// The variable a schedule segment prescribes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -173,69 +174,38 @@ impl Curve<'_> {
 
     /// Newton on r(u, δ) = 0 with one constraint, from `y`.
     fn correct(&mut self, mut y: Vec<f64>, constraint: &Constraint) -> Result<Point, String> {
-        let n = self.solid.dofs();
-        let mut residuals = Vec::new();
-        let mut b = Vec::new();
-        let mut iteration = 0;
-        // true once this corrector has factorised (the assembler keeps the factorisation)
-        let mut factored = false;
-        // true if the last correction used a factorisation of the tangent where it was taken
-        let mut fresh = true;
-        loop {
-            let ev = self.evaluate(&y, true)?;
-            let r = self.asm.residual(&ev.gradient);
-            let (c, c_u, c_d, force) = constraint.linearise(&y, &ev);
-            let rn = (dot(&r, &r) + if force { c * c } else { 0.0 }).sqrt();
-            residuals.push(rn);
-            let reference = ev.force_reference(self.force_floor);
-            // the round-off stall test holds only for full Newton steps (a reused
-            // factorisation converges linearly)
-            let done = if fresh {
-                converged(&residuals, reference, &self.newton)
-            } else {
-                rn <= (self.newton.rtol * reference).max(self.newton.atol)
-            };
-            if iteration > 0 && done {
-                return Ok(Point {
+        let newton = NewtonParams {
+            max_backtracks: 0,
+            ..self.newton
+        };
+        let mut corrector = Corrector {
+            curve: self,
+            constraint,
+            at: None,
+            norm: 0.0,
+            reference: 0.0,
+            previous: None,
+            b: Vec::new(),
+            factored: false,
+            fresh: true,
+        };
+        match newton::solve(&mut corrector, &mut y, &newton) {
+            Ok(info) => {
+                let (ev, _) = corrector.at.ok_or("arc-length corrector: no point")?;
+                Ok(Point {
                     y,
                     ev,
-                    b,
-                    iterations: iteration,
-                });
+                    b: corrector.b,
+                    iterations: info.iterations,
+                })
             }
-            if iteration >= self.newton.max_iterations {
-                return Err(format!(
-                    "arc-length corrector: no convergence in {iteration} iterations (residuals {residuals:?})"
-                ));
-            }
-            let k = residuals.len();
-            let contracting = k > 1 && rn <= self.contraction * residuals[k - 2];
-            fresh = !(contracting && factored);
-            if fresh {
-                self.asm.factor(&ev.values).map_err(|e| e.to_string())?;
-                factored = true;
-            }
-            let minus_r: Vec<f64> = r.iter().map(|v| -v).collect();
-            let a = self.asm.back_solve(&minus_r).map_err(|e| e.to_string())?;
-            b = self
-                .asm
-                .back_solve(&ev.load_gradient)
-                .map_err(|e| e.to_string())?;
-            let (ca, cb) = c_u.map_or((0.0, 0.0), |cu| (dot(cu, &a), dot(cu, &b)));
-            let schur = c_d - cb;
-            // the bordered matrix is regular on a smooth curve (its tangent is unique); a
-            // vanishing Schur complement means the constraint is tangent to the curve
-            if !(schur.abs() > 1e-12 * (c_d.abs() + cb.abs())) {
-                return Err(format!(
-                    "arc-length corrector: the constraint is tangent to the curve (t_δ − t_u·K⁻¹g = {schur:.3e})"
-                ));
-            }
-            let d_delta = (-c - ca) / schur;
-            for ((yi, ai), bi) in y.iter_mut().zip(&a).zip(&b) {
-                *yi += ai - bi * d_delta;
-            }
-            y[n] += d_delta;
-            iteration += 1;
+            Err(NewtonError::NoConvergence {
+                iterations,
+                residuals,
+            }) => Err(format!(
+                "arc-length corrector: no convergence in {iterations} iterations (residuals {residuals:?})"
+            )),
+            Err(e) => Err(e.to_string()),
         }
     }
 
@@ -280,6 +250,94 @@ impl Curve<'_> {
                 point: &predicted,
             },
         )
+    }
+}
+
+/// The corrector's plug-ins to the Newton loop: full steps on the bordered system of r(u, δ)
+/// and the constraint, the norm of r (and of the constraint when it is a force), at least one
+/// iteration, and the factorisation of K_uu kept while the residual contracts (modified
+/// Newton, whose linear convergence the round-off stall test does not apply to).
+struct Corrector<'c, 'a> {
+    curve: &'c mut Curve<'a>,
+    constraint: &'c Constraint<'c>,
+    /// the evaluation at the iterate and its residual r
+    at: Option<(Evaluation, Vec<f64>)>,
+    /// the iterate's residual norm and reference force
+    norm: f64,
+    reference: f64,
+    /// the previous iterate's residual norm
+    previous: Option<f64>,
+    /// K_uu⁻¹g of the last iteration
+    b: Vec<f64>,
+    /// true once this corrector has factorised (the assembler keeps the factorisation)
+    factored: bool,
+    /// true if the last correction used a factorisation of the tangent where it was taken
+    fresh: bool,
+}
+
+impl NewtonProblem for Corrector<'_, '_> {
+    type Error = String;
+
+    fn residual(&mut self, y: &[f64]) -> Result<f64, String> {
+        let ev = self.curve.evaluate(y, true)?;
+        let r = self.curve.asm.residual(&ev.gradient);
+        let (c, _, _, force) = self.constraint.linearise(y, &ev);
+        let rn = (dot(&r, &r) + if force { c * c } else { 0.0 }).sqrt();
+        self.previous = self.at.as_ref().map(|_| self.norm);
+        self.reference = ev.force_reference(self.curve.force_floor);
+        self.norm = rn;
+        self.at = Some((ev, r));
+        Ok(rn)
+    }
+
+    fn converged(&self, residuals: &[f64]) -> bool {
+        let newton = &self.curve.newton;
+        let done = if self.fresh {
+            newton.converged(residuals, self.reference)
+        } else {
+            self.norm <= newton.tolerance(self.reference)
+        };
+        residuals.len() > 1 && done
+    }
+
+    fn direction(&mut self, y: &[f64]) -> Result<Vec<f64>, String> {
+        let contracting = self
+            .previous
+            .is_some_and(|p| self.norm <= self.curve.contraction * p);
+        self.fresh = !(contracting && self.factored);
+        let (ev, r) = self.at.as_ref().ok_or("arc-length corrector: no point")?;
+        let asm = &mut self.curve.asm;
+        if self.fresh {
+            asm.factor(&ev.values).map_err(|e| e.to_string())?;
+            self.factored = true;
+        }
+        let minus_r: Vec<f64> = r.iter().map(|v| -v).collect();
+        let a = asm.back_solve(&minus_r).map_err(|e| e.to_string())?;
+        let b = asm
+            .back_solve(&ev.load_gradient)
+            .map_err(|e| e.to_string())?;
+        let (c, c_u, c_d, _) = self.constraint.linearise(y, ev);
+        let (ca, cb) = c_u.map_or((0.0, 0.0), |cu| (dot(cu, &a), dot(cu, &b)));
+        let schur = c_d - cb;
+        // the bordered matrix is regular on a smooth curve (its tangent is unique); a
+        // vanishing Schur complement means the constraint is tangent to the curve
+        if !(schur.abs() > 1e-12 * (c_d.abs() + cb.abs())) {
+            return Err(format!(
+                "arc-length corrector: the constraint is tangent to the curve (t_δ − t_u·K⁻¹g = {schur:.3e})"
+            ));
+        }
+        let d_delta = (-c - ca) / schur;
+        let mut dy: Vec<f64> = a.iter().zip(&b).map(|(a, b)| a - b * d_delta).collect();
+        dy.push(d_delta);
+        self.b = b;
+        Ok(dy)
+    }
+
+    fn try_step(&mut self, y: &mut [f64], dy: &[f64], s: f64) -> Result<Trial, String> {
+        for (yi, di) in y.iter_mut().zip(dy) {
+            *yi += s * di;
+        }
+        Ok(Trial::Accepted)
     }
 }
 

@@ -9,7 +9,7 @@
 //! - [`solve_fire::minimize_fire`]: FIRE (Bitzek et al., PRL 97, 170201, 2006), matrix-free.
 //!
 //! Both stop on the force residual r = max |∂E/∂x_k| over free coordinates k:
-//! r ≤ max(`tol_abs`, `tol_rel` · r₀), r₀ the residual at the starting point.
+//! r ≤ max(`atol`, `rtol` · r₀), r₀ the residual at the starting point.
 
 use std::time::Instant;
 
@@ -152,6 +152,6 @@ impl<'a, E: EnergyTerm + ?Sized> Evaluator<'a, E> {
 }
 
 /// Stopping tolerance (nN) for starting residual r₀.
-pub(crate) fn tolerance(tol_abs: f64, tol_rel: f64, r0: f64) -> f64 {
-    tol_abs.max(tol_rel * r0)
+pub(crate) fn tolerance(atol: f64, rtol: f64, r0: f64) -> f64 {
+    atol.max(rtol * r0)
 }

@@ -18,9 +18,9 @@ use super::solve::{tolerance, Evaluator, Info, SolveError};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FireParams {
     /// absolute force-residual tolerance (nN)
-    pub tol_abs: f64,
+    pub atol: f64,
     /// tolerance relative to the starting residual
-    pub tol_rel: f64,
+    pub rtol: f64,
     /// iteration limit
     pub max_iterations: usize,
     /// largest time step (units of √(nm/(nN/nm)) with unit masses); `None`: from λ_max
@@ -44,8 +44,8 @@ pub struct FireParams {
 impl Default for FireParams {
     fn default() -> Self {
         FireParams {
-            tol_abs: 1e-10,
-            tol_rel: 1e-8,
+            atol: 1e-10,
+            rtol: 1e-8,
             max_iterations: 2_000_000,
             dt_max: None,
             dt_factor: 1.0,
@@ -78,7 +78,7 @@ pub fn minimize_fire<E: EnergyTerm + ?Sized>(
     let mut grad = vec![0.0; n];
     let mut energy = ev.eval(x, &mut grad)?;
     let mut residual = fixed.residual(&grad);
-    let tol = tolerance(params.tol_abs, params.tol_rel, residual);
+    let tol = tolerance(params.atol, params.rtol, residual);
     let mut history = vec![residual];
     let dt_max = match params.dt_max {
         Some(dt) => dt,

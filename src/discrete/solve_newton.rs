@@ -19,16 +19,17 @@
 
 use super::constraints::FixedDofs;
 use super::energy::EnergyTerm;
-use super::solve::{tolerance, Evaluator, Info, SolveError};
+use super::solve::{Evaluator, Info, SolveError};
+use crate::numerics::newton::{self, armijo, NewtonError, NewtonProblem, Trial};
 use crate::numerics::sparse::{SparseError, SparseSystem};
 
 /// Newton settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NewtonParams {
     /// absolute force-residual tolerance (nN)
-    pub tol_abs: f64,
+    pub atol: f64,
     /// tolerance relative to the starting residual
-    pub tol_rel: f64,
+    pub rtol: f64,
     /// iteration limit
     pub max_iterations: usize,
     /// Armijo sufficient-decrease constant c₁
@@ -46,14 +47,29 @@ pub struct NewtonParams {
 impl Default for NewtonParams {
     fn default() -> Self {
         NewtonParams {
-            tol_abs: 1e-10,
-            tol_rel: 1e-8,
+            atol: 1e-10,
+            rtol: 1e-8,
             max_iterations: 200,
             armijo: 1e-4,
             max_backtracks: 40,
             shift_start: 1e-10,
             shift_growth: 10.0,
             max_shifts: 40,
+        }
+    }
+}
+
+impl NewtonParams {
+    /// The Newton loop's part of the settings (the convergence test is on the first residual,
+    /// without a round-off stall test).
+    pub fn newton(&self) -> newton::NewtonParams {
+        newton::NewtonParams {
+            max_iterations: self.max_iterations,
+            rtol: self.rtol,
+            atol: self.atol,
+            max_backtracks: self.max_backtracks,
+            armijo: self.armijo,
+            stagnation: 0.0,
         }
     }
 }
@@ -74,51 +90,104 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
     params: &NewtonParams,
 ) -> Result<Info, SolveError> {
     let free = fixed.free_dofs();
-    let mut d = Descent::new(model, fixed, &free, params, x)?;
+    let d = Descent::new(model, fixed, &free, params, x)?;
     let mut index = vec![usize::MAX; x.len()];
     for (k, &dof) in free.iter().enumerate() {
         index[dof] = k;
     }
-    let tol = tolerance(params.tol_abs, params.tol_rel, d.residual);
-    let mut history = vec![d.residual];
-    let mut hessian = FreeHessian::new(&index, free.len());
-    let mut shift = Shift::default();
-    let mut trip = Vec::new();
-    while d.residual > tol {
-        if d.ev.cost.iterations >= params.max_iterations {
-            return Err(SolveError::NoConvergence {
-                residual: d.residual,
-                tolerance: tol,
-                cost: d.ev.finish(),
-            });
-        }
-        d.ev.cost.iterations += 1;
-        trip.clear();
-        d.ev.model.hessian(x, &mut trip);
-        d.ev.cost.hessian_evaluations += 1;
-        hessian.load(&trip)?;
-        let rhs: Vec<f64> = free.iter().map(|&dof| -d.grad[dof]).collect();
-        let step = shift.solve(&mut hessian, &rhs, params, &mut d.ev.cost.factorizations)?;
-        let Some(alpha) = d.line_search(x, &step)? else {
-            return Err(SolveError::LineSearch {
-                residual: d.residual,
-                cost: d.ev.finish(),
-            });
-        };
-        // Past an instability the shift limits the step along the soft directions to about
-        // |g|/μ, and the energy keeps falling well beyond it: double the step while it does.
-        if alpha == 1.0 && shift.prev > 0.0 {
-            d.expand(x, &step);
-        }
-        history.push(d.residual);
+    let newton = params.newton();
+    let tol = newton.tolerance(d.residual);
+    let mut problem = Shifted {
+        d,
+        hessian: FreeHessian::new(&index, free.len()),
+        shift: Shift::default(),
+        trip: Vec::new(),
+        tol,
+        slope: 0.0,
+        scale: 0.0,
+    };
+    let solved = newton::solve(&mut problem, x, &newton);
+    let d = &mut problem.d;
+    match solved {
+        Ok(info) => Ok(Info {
+            energy: d.energy,
+            residual: d.residual,
+            tolerance: tol,
+            history: info.residuals,
+            cost: d.ev.finish(),
+        }),
+        Err(NewtonError::NoConvergence { .. }) => Err(SolveError::NoConvergence {
+            residual: d.residual,
+            tolerance: tol,
+            cost: d.ev.finish(),
+        }),
+        Err(NewtonError::LineSearch { .. }) => Err(SolveError::LineSearch {
+            residual: d.residual,
+            cost: d.ev.finish(),
+        }),
+        Err(NewtonError::Problem(e)) => Err(e),
     }
-    Ok(Info {
-        energy: d.energy,
-        residual: d.residual,
-        tolerance: tol,
-        history,
-        cost: d.ev.finish(),
-    })
+}
+
+/// The discrete engine's plug-ins to the Newton loop: the max norm of the free gradient against
+/// the first one, the step of the shifted Cholesky ([`Shift`]), a trial accepted on Armijo's
+/// decrease of the energy — or, once energy differences sink into round-off, on a decrease of
+/// the residual — a trial that folds a vertex rejected, and a full shifted step doubled while
+/// the energy keeps falling.
+struct Shifted<'a, E: EnergyTerm + ?Sized> {
+    d: Descent<'a, E>,
+    hessian: FreeHessian<'a>,
+    shift: Shift,
+    /// the model's Hessian entries (scratch)
+    trip: Vec<(usize, usize, f64)>,
+    /// the stopping tolerance (nN)
+    tol: f64,
+    /// gᵀp of the current step, and Σ|g_k x_k| (the scale of the energy's round-off)
+    slope: f64,
+    scale: f64,
+}
+
+impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
+    type Error = SolveError;
+
+    fn residual(&mut self, _x: &[f64]) -> Result<f64, SolveError> {
+        Ok(self.d.residual)
+    }
+
+    fn converged(&self, residuals: &[f64]) -> bool {
+        residuals.last().is_some_and(|&r| r <= self.tol)
+    }
+
+    fn direction(&mut self, x: &[f64]) -> Result<Vec<f64>, SolveError> {
+        let d = &mut self.d;
+        d.ev.cost.iterations += 1;
+        self.trip.clear();
+        d.ev.model.hessian(x, &mut self.trip);
+        d.ev.cost.hessian_evaluations += 1;
+        self.hessian.load(&self.trip)?;
+        let rhs: Vec<f64> = d.free.iter().map(|&dof| -d.grad[dof]).collect();
+        let step = self.shift.solve(
+            &mut self.hessian,
+            &rhs,
+            d.params,
+            &mut d.ev.cost.factorizations,
+        )?;
+        self.slope = d.free.iter().zip(&step).map(|(&k, p)| d.grad[k] * p).sum();
+        self.scale = d.free.iter().map(|&k| (d.grad[k] * x[k]).abs()).sum();
+        Ok(step)
+    }
+
+    fn try_step(&mut self, x: &mut [f64], step: &[f64], alpha: f64) -> Result<Trial, SolveError> {
+        self.d.try_step(x, step, alpha, self.slope, self.scale)
+    }
+
+    /// Past an instability the shift limits the step along the soft directions to about
+    /// |g|/μ, and the energy keeps falling well beyond it: double the step while it does.
+    fn stepped(&mut self, x: &mut [f64], step: &[f64], alpha: f64) {
+        if alpha == 1.0 && self.shift.prev > 0.0 {
+            self.d.expand(x, step);
+        }
+    }
 }
 
 /// The shift μ of H + μI across iterations.
@@ -209,38 +278,40 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
         })
     }
 
-    /// Backtracking from α = 1 along `step`: the α taken (x moved there), None if every
-    /// halving failed.
-    fn line_search(&mut self, x: &mut [f64], step: &[f64]) -> Result<Option<f64>, SolveError> {
-        let free = self.free;
-        let slope: f64 = free.iter().zip(step).map(|(&d, p)| self.grad[d] * p).sum();
-        let scale: f64 = free.iter().map(|&d| (self.grad[d] * x[d]).abs()).sum();
-        let mut alpha = 1.0;
-        for _ in 0..=self.params.max_backtracks {
-            self.trial.copy_from_slice(x);
-            for (&d, p) in free.iter().zip(step) {
-                self.trial[d] += alpha * p;
-            }
-            // a trial point may be unphysical (a folded vertex): treat as a failed trial
-            let e_trial = match self.ev.eval(&self.trial, &mut self.grad_trial) {
-                Ok(e) => e,
-                Err(SolveError::NonFinite { .. }) => {
-                    alpha *= 0.5;
-                    continue;
-                }
-                Err(e) => return Err(e),
-            };
-            let r_trial = self.fixed.residual(&self.grad_trial);
-            let noise = ENERGY_NOISE * (self.energy.abs().max(e_trial.abs()) + scale);
-            let armijo = e_trial <= self.energy + self.params.armijo * alpha * slope;
-            let flat = (e_trial - self.energy).abs() <= noise && r_trial < self.residual;
-            if armijo || flat {
-                self.take(x, e_trial);
-                return Ok(Some(alpha));
-            }
-            alpha *= 0.5;
+    /// The trial x + α·`step` (`slope` = gᵀp, `scale` = Σ|g_k x_k|): taken (x moved there) on
+    /// Armijo's decrease, or on a lower residual where the energies agree to round-off; an
+    /// unphysical trial point (a folded vertex) is rejected.
+    fn try_step(
+        &mut self,
+        x: &mut [f64],
+        step: &[f64],
+        alpha: f64,
+        slope: f64,
+        scale: f64,
+    ) -> Result<Trial, SolveError> {
+        self.trial.copy_from_slice(x);
+        for (&d, p) in self.free.iter().zip(step) {
+            self.trial[d] += alpha * p;
         }
-        Ok(None)
+        let e_trial = match self.ev.eval(&self.trial, &mut self.grad_trial) {
+            Ok(e) => e,
+            Err(SolveError::NonFinite { .. }) => {
+                return Ok(Trial::Rejected("non-finite energy".into()))
+            }
+            Err(e) => return Err(e),
+        };
+        let r_trial = self.fixed.residual(&self.grad_trial);
+        let noise = ENERGY_NOISE * (self.energy.abs().max(e_trial.abs()) + scale);
+        let sufficient = armijo(self.energy, e_trial, self.params.armijo, alpha, slope, 0.0);
+        let flat = (e_trial - self.energy).abs() <= noise && r_trial < self.residual;
+        if sufficient || flat {
+            self.take(x, e_trial);
+            return Ok(Trial::Accepted);
+        }
+        Ok(Trial::Rejected(format!(
+            "energy {:.6e} → {e_trial:.6e}",
+            self.energy
+        )))
     }
 
     /// From the full step taken, double it while the energy keeps falling (up to

@@ -21,6 +21,7 @@
 use super::grid::Grid;
 use super::influence::{influence_matrix, scaled_factor};
 use super::{HalfspaceError, HalfspaceParams, Problem, Traction};
+use crate::numerics::newton::{self, NewtonError, NewtonParams, NewtonProblem, Trial};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
@@ -240,56 +241,45 @@ impl<'a, T: Traction> System<'a, T> {
         guess: State,
         params: &HalfspaceParams,
     ) -> Result<(State, usize), HalfspaceError> {
-        let n = self.len();
-        let mut state = guess;
-        let mut norm = f64::INFINITY;
-        let h0 = match control {
+        let central_gap = match control {
             Control::CentralGap(h0) => *h0,
-            _ => state.gaps[0],
+            _ => guess.gaps[0],
         };
-        for iteration in 0..=params.max_iterations {
-            let r = self.residual(&state, control);
-            norm = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            if !norm.is_finite() {
-                return Err(HalfspaceError::NonFinite { central_gap: h0 });
-            }
-            if norm < params.tolerance {
-                return Ok((state, iteration));
-            }
-            if iteration == params.max_iterations {
-                break;
-            }
-            let lu = self.jacobian(&state, control).partial_piv_lu();
-            let mut dx = Mat::from_fn(n + 1, 1, |i, _| -r[i]);
-            lu.solve_in_place(&mut dx);
-            let largest = (0..=n).fold(0.0f64, |m, i| m.max(dx[(i, 0)].abs()));
-            if !largest.is_finite() {
-                return Err(HalfspaceError::NonFinite { central_gap: h0 });
-            }
-            // cap the largest change, then halve until ‖R‖₂ decreases (the Newton direction is
-            // a descent direction of ‖R‖₂², not of the max norm)
-            let norm2: f64 = r.iter().map(|v| v * v).sum();
-            let mut scale = (params.max_newton_change / largest).min(1.0);
-            let mut trial = state.clone();
-            for _ in 0..MAX_BACKTRACKS {
-                trial = State {
-                    gaps: (0..n).map(|i| state.gaps[i] + scale * dx[(i, 0)]).collect(),
-                    approach: state.approach + scale * dx[(n, 0)],
-                };
-                let r_trial = self.residual(&trial, control);
-                if r_trial.iter().map(|v| v * v).sum::<f64>() < norm2 {
-                    break;
-                }
-                scale *= 0.5;
-            }
-            state = trial;
+        let mut x = guess.gaps;
+        x.push(guess.approach);
+        let mut balance = Balance {
+            system: self,
+            control,
+            central_gap,
+            params,
+            residual: Vec::new(),
+            last_trial: Vec::new(),
+        };
+        let newton = NewtonParams {
+            max_iterations: params.max_iterations,
+            max_backtracks: MAX_BACKTRACKS - 1,
+            ..NewtonParams::default()
+        };
+        match newton::solve(&mut balance, &mut x, &newton) {
+            Ok(info) => Ok((state_of(&x), info.iterations)),
+            Err(NewtonError::NoConvergence {
+                iterations,
+                residuals,
+            }) => Err(HalfspaceError::NoConvergence {
+                central_gap,
+                residual: residuals.last().copied().unwrap_or(f64::INFINITY),
+                iterations,
+                step: 0.0,
+            }),
+            // (the line search takes its last trial rather than fail)
+            Err(NewtonError::LineSearch { iteration, .. }) => Err(HalfspaceError::NoConvergence {
+                central_gap,
+                residual: largest(&balance.residual),
+                iterations: iteration,
+                step: 0.0,
+            }),
+            Err(NewtonError::Problem(e)) => Err(e),
         }
-        Err(HalfspaceError::NoConvergence {
-            central_gap: h0,
-            residual: norm,
-            iterations: params.max_iterations,
-            step: 0.0,
-        })
     }
 
     /// The rigid-sphere state (no deformation) with central gap `h0`: a starting guess far out.
@@ -364,6 +354,96 @@ impl<'a, T: Traction> System<'a, T> {
             approach: d,
         }
     }
+}
+
+/// The state (H, D) the unknowns `x` stand for.
+fn state_of(x: &[f64]) -> State {
+    let n = x.len() - 1;
+    State {
+        gaps: x[..n].to_vec(),
+        approach: x[n],
+    }
+}
+
+/// The half-space's plug-ins to the Newton loop: the max norm of R, the bordered Jacobian
+/// solved by dense LU, the largest change of any unknown capped at
+/// [`HalfspaceParams::max_newton_change`], and a trial accepted when ‖R‖₂ decreases (the
+/// Newton direction is a descent direction of ‖R‖₂², not of the max norm); after
+/// [`MAX_BACKTRACKS`] halvings the last trial is taken anyway.
+struct Balance<'s, 'a, T: Traction> {
+    system: &'s System<'a, T>,
+    control: &'s Control,
+    /// H(0) prescribed or at the guess, for the error messages
+    central_gap: f64,
+    params: &'s HalfspaceParams,
+    /// R at the iterate
+    residual: Vec<f64>,
+    /// the last rejected trial
+    last_trial: Vec<f64>,
+}
+
+impl<T: Traction> NewtonProblem for Balance<'_, '_, T> {
+    type Error = HalfspaceError;
+
+    fn residual(&mut self, x: &[f64]) -> Result<f64, HalfspaceError> {
+        self.residual = self.system.residual(&state_of(x), self.control);
+        let norm = self.residual.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if !norm.is_finite() {
+            return Err(HalfspaceError::NonFinite {
+                central_gap: self.central_gap,
+            });
+        }
+        Ok(norm)
+    }
+
+    fn converged(&self, residuals: &[f64]) -> bool {
+        residuals.last().is_some_and(|&r| r < self.params.tolerance)
+    }
+
+    fn direction(&mut self, x: &[f64]) -> Result<Vec<f64>, HalfspaceError> {
+        let m = x.len();
+        let lu = self
+            .system
+            .jacobian(&state_of(x), self.control)
+            .partial_piv_lu();
+        let mut dx = Mat::from_fn(m, 1, |i, _| -self.residual[i]);
+        lu.solve_in_place(&mut dx);
+        let dx: Vec<f64> = (0..m).map(|i| dx[(i, 0)]).collect();
+        if !largest(&dx).is_finite() {
+            return Err(HalfspaceError::NonFinite {
+                central_gap: self.central_gap,
+            });
+        }
+        Ok(dx)
+    }
+
+    fn first_step(&self, dx: &[f64]) -> f64 {
+        (self.params.max_newton_change / largest(dx)).min(1.0)
+    }
+
+    fn try_step(&mut self, x: &mut [f64], dx: &[f64], s: f64) -> Result<Trial, HalfspaceError> {
+        let norm2: f64 = self.residual.iter().map(|v| v * v).sum();
+        self.last_trial = x.iter().zip(dx).map(|(x, d)| x + s * d).collect();
+        let r_trial = self
+            .system
+            .residual(&state_of(&self.last_trial), self.control);
+        let trial2: f64 = r_trial.iter().map(|v| v * v).sum();
+        if trial2 < norm2 {
+            x.copy_from_slice(&self.last_trial);
+            return Ok(Trial::Accepted);
+        }
+        Ok(Trial::Rejected(format!("‖R‖₂² {norm2:.3e} → {trial2:.3e}")))
+    }
+
+    fn exhausted(&mut self, x: &mut [f64]) -> bool {
+        x.copy_from_slice(&self.last_trial);
+        true
+    }
+}
+
+/// The largest |entry|.
+fn largest(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, d| m.max(d.abs()))
 }
 
 #[cfg(test)]

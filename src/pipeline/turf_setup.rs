@@ -136,14 +136,14 @@ pub(super) fn vdw_params(v: &crate::scene::turf::Vdw) -> Result<VdwParams, Stage
 pub(super) fn static_solver(k: &Compression) -> StaticSolver {
     match k.solver {
         DiscreteSolver::Fire => StaticSolver::Fire(FireParams {
-            tol_abs: k.tolerance.0,
-            tol_rel: 0.0,
+            atol: k.tolerance.0,
+            rtol: 0.0,
             max_iterations: k.max_iterations,
             ..FireParams::default()
         }),
         DiscreteSolver::Newton => StaticSolver::Newton(NewtonParams {
-            tol_abs: k.tolerance.0,
-            tol_rel: 0.0,
+            atol: k.tolerance.0,
+            rtol: 0.0,
             max_iterations: k.max_iterations,
             ..NewtonParams::default()
         }),

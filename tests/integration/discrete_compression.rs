@@ -44,8 +44,8 @@ pub(crate) fn small_turf() -> TurfParams {
 
 pub(crate) fn newton() -> StaticSolver {
     StaticSolver::Newton(NewtonParams {
-        tol_abs: TOLERANCE,
-        tol_rel: 0.0,
+        atol: TOLERANCE,
+        rtol: 0.0,
         max_iterations: 2000,
         ..NewtonParams::default()
     })
@@ -579,8 +579,8 @@ fn sphere_on_column(radius: f64) -> (f64, f64) {
     // residual 1e-5 nN: 2e-7 of the ~50 nN load, far below the 1 % checked; the near-flat
     // sphere's post-buckling branch stalls Newton at ~2e-6 nN
     let params = NewtonParams {
-        tol_abs: 1e-5,
-        tol_rel: 0.0,
+        atol: 1e-5,
+        rtol: 0.0,
         max_iterations: 2000,
         ..NewtonParams::default()
     };

@@ -124,8 +124,8 @@ fn peel() -> Peel {
 fn lift(p: &mut Peel, h: f64) -> (f64, f64, f64, f64) {
     p.x[3 * p.end + 2] = p.d0 + h;
     let params = NewtonParams {
-        tol_abs: TOLERANCE,
-        tol_rel: 0.0,
+        atol: TOLERANCE,
+        rtol: 0.0,
         max_iterations: 500,
         ..NewtonParams::default()
     };

@@ -72,8 +72,8 @@ fn post_buckled_column_follows_the_elastica_load_shortening_curve() {
     // residual 1e-7 P_cr: far below the 1 % checked, above the round-off floor
     // (EA/ℓ · 1e-16 · L ≈ 1e-9 nN)
     let params = NewtonParams {
-        tol_abs: 1e-7 * p_cr,
-        tol_rel: 0.0,
+        atol: 1e-7 * p_cr,
+        rtol: 0.0,
         // leaving the straight saddle with shifted steps takes ≈ 200 steps at the first Δ
         max_iterations: 1000,
         ..NewtonParams::default()

@@ -22,13 +22,13 @@ fn fire_and_newton_agree_on_the_cantilever() {
     let mut b = a.clone();
     let newton = a
         .solve_newton(&NewtonParams {
-            tol_rel: REL_RESIDUAL,
+            rtol: REL_RESIDUAL,
             ..NewtonParams::default()
         })
         .unwrap();
     let fire = b
         .solve_fire(&FireParams {
-            tol_rel: REL_RESIDUAL,
+            rtol: REL_RESIDUAL,
             ..FireParams::default()
         })
         .unwrap();

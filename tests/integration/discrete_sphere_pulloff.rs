@@ -86,8 +86,8 @@ fn setup(law: SurfaceLaw, segment: f64) -> (RodSet, FixedDofs, SphereAdhesion, V
 fn pull(law: SurfaceLaw, segment: f64, step: f64, to: f64) -> f64 {
     let (mut rods, fixed, mut sphere, mut x) = setup(law, segment);
     let params = NewtonParams {
-        tol_abs: 1e-9,
-        tol_rel: 0.0,
+        atol: 1e-9,
+        rtol: 0.0,
         max_iterations: 200,
         ..NewtonParams::default()
     };
