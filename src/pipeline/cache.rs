@@ -142,14 +142,15 @@ fn copy(from: &Path, to: &Path) -> Result<(), ReportError> {
 }
 
 /// The cached record of `stage` under `root` (the run's output folder) with its files copied
-/// into `dir` (the folder the stage writes into), or `None` when there is no complete entry
-/// for these inputs.
+/// into `dir` (the folder the stage writes into), and the entry's own copy of the files (what
+/// the stage hands over is read from there), or `None` when there is no complete entry for
+/// these inputs.
 pub fn reuse(
     root: &Path,
     dir: &Path,
     stage: Stage,
     key: &Key,
-) -> Result<Option<StageRecord>, ReportError> {
+) -> Result<Option<(StageRecord, PathBuf)>, ReportError> {
     let entry = entry_dir(root, stage, key);
     let Ok(text) = std::fs::read_to_string(entry.join(RECORD)) else {
         return Ok(None);
@@ -169,7 +170,7 @@ pub fn reuse(
         copy(&files.join(f), &dir.join(f))?;
     }
     record.cached = true;
-    Ok(Some(record))
+    Ok(Some((record, files)))
 }
 
 /// Keep `record` and copies of its files (in `dir`) under `root` for later runs.

@@ -25,6 +25,7 @@ use crate::continuum::material::linear::LinearElastic;
 use crate::continuum::material::viscoelastic::PronyTerm;
 use crate::continuum::material::Elastic;
 use crate::continuum::{run_indent, IndentParams, IndentResult, Progress, Segment};
+use crate::homogenize::card::MaterialCard;
 use crate::laws::SurfaceLaw;
 use crate::scene::indenter::Shape;
 use crate::scene::machine::Control;
@@ -43,14 +44,18 @@ fn failed(message: String) -> StageError {
     }
 }
 
-/// The FE parameters of a scene, or the reason they cannot be built.
-pub(crate) fn indent_params(scene: &ResolvedScene) -> Result<IndentParams, StageError> {
+/// The FE parameters of a scene, or the reason they cannot be built; `fitted`: the card this
+/// run's homogenize stage handed over, for `material.model = "card"` without `material.card`.
+pub(crate) fn indent_params(
+    scene: &ResolvedScene,
+    fitted: Option<&MaterialCard>,
+) -> Result<IndentParams, StageError> {
     let s = &scene.scene;
     let (schedule, start) = schedule(s)?;
     let (solver, kinematics) = solver(s);
     let mut params = IndentParams {
         indenter: indenter(s)?,
-        material: material(s)?,
+        material: material(s, fitted)?,
         kinematics,
         mesh: mesh_params(scene),
         schedule,
@@ -128,7 +133,7 @@ fn indenter(s: &Scene) -> Result<Indenter, StageError> {
 
 /// The `[material]` (or its card) and `[viscoelastic]` sections; a card's relaxation applies
 /// when the scene gives none.
-fn material(s: &Scene) -> Result<MaterialParams, StageError> {
+fn material(s: &Scene, fitted: Option<&MaterialCard>) -> Result<MaterialParams, StageError> {
     let mat = s
         .material
         .as_ref()
@@ -169,36 +174,45 @@ fn material(s: &Scene) -> Result<MaterialParams, StageError> {
             })
         }
         MaterialModel::Card => {
-            let path = mat
-                .card
-                .as_ref()
-                .ok_or_else(|| failed("material.card: no path".into()))?;
-            if let Some(ti) = transverse_card(path)? {
-                ti
-            } else {
-                let card = crate::homogenize::read_card(path).map_err(|e| failed(e.to_string()))?;
-                if prony.is_empty() {
-                    if let Some(p) = &card.prony {
-                        prony =
-                            p.g.iter()
-                                .zip(&p.tau)
-                                .map(|(&g, &tau)| PronyTerm { g, tau })
-                                .collect();
+            let read;
+            let card = match (&mat.card, fitted) {
+                (Some(path), _) => {
+                    if let Some(ti) = transverse_card(path)? {
+                        return Ok(MaterialParams { elastic: ti, prony });
                     }
+                    read = crate::homogenize::read_card(path).map_err(|e| failed(e.to_string()))?;
+                    &read
                 }
-                Elastic::Hyperfoam(Hyperfoam {
-                    terms: card
-                        .hyperfoam
-                        .terms
-                        .iter()
-                        .map(|t| HyperfoamTerm {
-                            mu: t.mu,
-                            alpha: t.alpha,
-                            beta: t.beta,
-                        })
-                        .collect(),
-                })
+                (None, Some(card)) => card,
+                (None, None) => {
+                    return Err(failed(
+                        "material.model = \"card\" without material.card indents the card of \
+                         this run's homogenize stage, which has not run"
+                            .into(),
+                    ))
+                }
+            };
+            if prony.is_empty() {
+                if let Some(p) = &card.prony {
+                    prony =
+                        p.g.iter()
+                            .zip(&p.tau)
+                            .map(|(&g, &tau)| PronyTerm { g, tau })
+                            .collect();
+                }
             }
+            Elastic::Hyperfoam(Hyperfoam {
+                terms: card
+                    .hyperfoam
+                    .terms
+                    .iter()
+                    .map(|t| HyperfoamTerm {
+                        mu: t.mu,
+                        alpha: t.alpha,
+                        beta: t.beta,
+                    })
+                    .collect(),
+            })
         }
     };
     Ok(MaterialParams { elastic, prony })
@@ -356,7 +370,7 @@ pub fn mesh_preview(scene: &ResolvedScene) -> Option<Result<MeshPreview, String>
     if !scene.plan.has(Stage::Continuum) || scene.plan.has(Stage::Homogenize) {
         return None;
     }
-    let preview = indent_params(scene)
+    let preview = indent_params(scene, None)
         .map_err(|e| e.to_string())
         .and_then(|p| crate::continuum::indent::mesh_preview(&p).map_err(|e| e.to_string()))
         .map(|(r, m)| MeshPreview {
@@ -405,35 +419,9 @@ fn transverse_card(path: &std::path::Path) -> Result<Option<Elastic>, StageError
     })))
 }
 
-/// `material.model = "card"` without `material.card`: the scene with the card this run's
-/// homogenize stage wrote (`material.json` in the output folder); `None` for any other
-/// material.
-fn with_fitted_card(
-    scene: &ResolvedScene,
-    ctx: &StageContext,
-) -> Result<Option<ResolvedScene>, StageError> {
-    match &scene.scene.material {
-        Some(m) if m.model == MaterialModel::Card && m.card.is_none() => {}
-        _ => return Ok(None),
-    }
-    if !ctx.previous.iter().any(|r| r.stage == Stage::Homogenize) {
-        return Err(failed(
-            "material.model = \"card\" without material.card indents the card of this run's \
-             homogenize stage, which has not run"
-                .into(),
-        ));
-    }
-    let mut fitted = scene.clone();
-    if let Some(m) = fitted.scene.material.as_mut() {
-        m.card = Some(ctx.out_dir.join("material.json"));
-    }
-    Ok(Some(fitted))
-}
-
 /// Run the stage.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
-    let fitted = with_fitted_card(scene, ctx)?;
-    let params = indent_params(fitted.as_ref().unwrap_or(scene))?;
+    let params = indent_params(scene, ctx.card())?;
     let mut increments = 0usize;
     let mut report_progress = |p: &Progress| {
         increments += 1;
@@ -546,6 +534,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             .map(|f| PathBuf::from("continuum").join(f))
             .collect(),
         warnings: written.warnings,
+        handoff: None,
     })
 }
 
@@ -595,7 +584,7 @@ rate = "10 nm/s"
     #[test]
     fn the_seed_tubes_shift_the_fe_law_by_4_626_nm() {
         let loaded = load_str(SEED_TUBES, Path::new("t.toml"), &[]).unwrap();
-        let params = indent_params(&loaded.base).unwrap();
+        let params = indent_params(&loaded.base, None).unwrap();
         let Some(SurfaceLaw::ThermallyShifted(law)) = params.adhesion.map(|a| a.law) else {
             panic!("thermal_shift = true must give the thermally shifted law");
         };
@@ -621,7 +610,7 @@ rate = "10 nm/s"
     fn without_turf_the_shift_from_tubes_names_the_keys_it_needs() {
         let mut scene = load_str(SEED_TUBES, Path::new("t.toml"), &[]).unwrap().base;
         scene.scene.turf = None;
-        let e = indent_params(&scene).unwrap_err().to_string();
+        let e = indent_params(&scene, None).unwrap_err().to_string();
         for key in [
             "adhesion.thermal_shift",
             "turf.growth.length",

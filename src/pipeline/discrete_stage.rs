@@ -31,6 +31,7 @@
 //! instead of recomputing it.
 
 use super::ensemble::{self, PathEnsemble};
+use super::handoff::{self, Curves, Filed, Handoff};
 use super::turf_setup::{failed, static_solver, turf_system, vdw_params};
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::analysis::{Branch, CurveAnalysis};
@@ -144,6 +145,7 @@ pub(super) fn run_realisation_item(
     let ctx = StageContext {
         out_dir: dir,
         previous: &[],
+        handoffs: &[],
         progress: None,
         resume,
         keep_realisations: true,
@@ -324,13 +326,33 @@ struct Finished {
 impl Finished {
     /// The stage's output for a single realisation (the run without an ensemble).
     fn into_output(self) -> StageOutput {
+        let compression = handoff::Compression {
+            fitted: self.curves(),
+            realisations: Vec::new(),
+        };
         StageOutput {
             values: self.values,
             tables: vec![("tangent".into(), self.tangent)],
             evaluations: self.evaluations,
             files: self.files,
             warnings: self.warnings,
+            handoff: Some(Handoff::Compression(compression)),
         }
+    }
+
+    /// Its loading and unloading branches (as [`analyse`] splits them), in the files
+    /// [`write_realisation`] writes them to.
+    fn curves(&self) -> Curves {
+        let strain: Vec<f64> = self.path.iter().map(|p| p.0).collect();
+        let loading: Vec<bool> = self.path.iter().map(|p| p.1).collect();
+        let stress: Vec<f64> = self.path.iter().map(|p| p.2).collect();
+        let (l, u) = ensemble::branches(&strain, &stress, &loading);
+        filed_curves(
+            l,
+            u,
+            &ensemble::realisation_dir(self.index),
+            (LOADING_CSV, UNLOADING_CSV),
+        )
     }
 }
 
@@ -808,6 +830,17 @@ fn ensemble_output(
     if let Some(u) = &mean_unloading {
         write(branch_table(u), ENSEMBLE_UNLOADING_CSV, &mut files)?;
     }
+    let fitted = filed_curves(
+        mean_loading.clone(),
+        mean_unloading.clone(),
+        Path::new(""),
+        (ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV),
+    );
+    let realisations = finished.iter().map(|f| (f.index, f.curves())).collect();
+    out.handoff = Some(Handoff::Compression(handoff::Compression {
+        fitted,
+        realisations,
+    }));
     let mean_analysis = CurveAnalysis::new(mean_loading, mean_unloading);
     let mean_warnings = mean_analysis.fit_warnings().into_iter();
     out.warnings
@@ -1003,6 +1036,7 @@ fn run_rods(
         evaluations: info.cost.gradient_evaluations as u64,
         files,
         warnings: Vec::new(),
+        handoff: None,
     })
 }
 
@@ -1093,6 +1127,25 @@ fn steps_table(records: &[StepRecord]) -> Table {
         .column("platen_nodes", col(&|r| r.state.platen_nodes as f64))
         .column("iterations", col(&|r| r.cost.iterations as f64))
         .column("solve_s", col(&|r| r.cost.seconds))
+}
+
+/// Branches with the files (under `dir`, named `names`) that hold them.
+fn filed_curves(
+    loading: Branch,
+    unloading: Option<Branch>,
+    dir: &Path,
+    names: (&str, &str),
+) -> Curves {
+    Curves {
+        loading: Filed {
+            file: dir.join(names.0),
+            branch: loading,
+        },
+        unloading: unloading.map(|branch| Filed {
+            file: dir.join(names.1),
+            branch,
+        }),
+    }
 }
 
 fn branch_table(b: &Branch) -> Table {

@@ -1,8 +1,8 @@
 //! The `homogenize` stage: a material card (hyperfoam, seed eq. 5.3, plus the Prony terms of
 //! `[viscoelastic]`, seed eq. 5.8) fitted to the tangent-modulus law (seed eq. 5.1) or to the
-//! discrete stage's compression curve ([`crate::homogenize`]; the branch files the discrete
-//! stage wrote into the output folder). Writes `material.json` and
-//! `material.inp` in the output folder, and the fit's own files under `homogenize/`.
+//! discrete stage's compression curve ([`crate::homogenize`]; the branches the discrete stage
+//! handed over, [`super::handoff`]). Writes `material.json` and `material.inp` in the output
+//! folder, and the fit's own files under `homogenize/`; hands the card to the continuum stage.
 //!
 //! For an ensemble (`turf.realisations` > 1) the card is fitted to the realisations' mean
 //! curve, and the same fit is repeated on every realisation's own curve to show how far the
@@ -10,11 +10,10 @@
 //! maximum of each constant ([`super::ensemble`]) in the summary (`card_*`),
 //! `homogenize/ensemble.json` and `homogenize/card_spread.csv`.
 
-use super::discrete_stage::{
-    ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV, LOADING_CSV, UNLOADING_CSV,
-};
 use super::ensemble;
+use super::handoff::{Curves, Filed, Handoff};
 use super::{StageContext, StageError, StageOutput};
+use crate::homogenize::curve::StressStrainCurve;
 use crate::homogenize::{
     self, card::MaterialCard, tangent_law::TangentLaw, HomogenizeOutput, HomogenizeParams,
     Relaxation, Source,
@@ -26,7 +25,6 @@ use crate::scene::homogenize::{Curve, Homogenize};
 use crate::scene::{ResolvedScene, Scene, Stage};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
 
 fn failed(message: String) -> StageError {
     StageError::Failed {
@@ -62,13 +60,19 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
                         .into(),
                 ));
             }
-            let (file, what) = match (h.curve, realisations > 1) {
-                (Curve::Loading, false) => (LOADING_CSV, "discrete stage".to_string()),
-                (_, false) => (UNLOADING_CSV, "discrete stage".to_string()),
-                (Curve::Loading, true) => (ENSEMBLE_LOADING_CSV, ensemble_name(ctx, realisations)),
-                (_, true) => (ENSEMBLE_UNLOADING_CSV, ensemble_name(ctx, realisations)),
+            let compression = ctx.compression().ok_or_else(|| {
+                failed(
+                    "the discrete stage compressed no turf (explicit rods, or a lateral or \
+                     shear test): there is no compression curve to fit"
+                        .into(),
+                )
+            })?;
+            let what = match realisations > 1 {
+                false => "discrete stage".to_string(),
+                true => ensemble_name(ctx, realisations),
             };
-            curve_source(&ctx.out_dir.join(file), format!("{what}, {file}"))?
+            let filed = branch(&compression.fitted, h.curve)?;
+            curve_source(filed, ctx, format!("{what}, {}", filed.file.display()))?
         }
     };
     let params = fit_params(h, s, source)?;
@@ -80,6 +84,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     let summary = homogenize::write_outputs(&out, &ctx.out_dir.join("homogenize"))
         .map_err(|e| failed(e.to_string()))?;
     write_card(&out.card, ctx).map_err(report)?;
+    let handoff = Some(Handoff::Card(out.card.clone()));
     let mut values = BTreeMap::from([
         ("fit_rms_rel".to_string(), summary.fit_rms_rel),
         ("fit_max_rel".to_string(), summary.fit_max_rel),
@@ -113,6 +118,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         evaluations: out.hyperfoam_fit.info.evaluations as u64,
         files: files.into_iter().map(Into::into).collect(),
         warnings: summary.warnings.clone(),
+        handoff,
     })
 }
 
@@ -138,9 +144,27 @@ fn ensemble_name(ctx: &StageContext, asked: usize) -> String {
     }
 }
 
-/// A curve file as the fit's source, named `name` in the card's provenance.
-fn curve_source(path: &Path, name: String) -> Result<Source, StageError> {
-    let curve = homogenize::read_curve(path).map_err(|e| failed(e.to_string()))?;
+/// The branch of `curves` the scene fits.
+fn branch(curves: &Curves, curve: Curve) -> Result<&Filed, StageError> {
+    match curve {
+        Curve::Unloading => curves.unloading.as_ref().ok_or_else(|| {
+            failed(format!(
+                "homogenize.curve = \"unloading\": the turf was not unloaded ({} has only a \
+                 loading branch)",
+                curves.loading.file.display()
+            ))
+        }),
+        _ => Ok(&curves.loading),
+    }
+}
+
+/// A handed-over branch as the fit's source, named `name` in the card's provenance (its
+/// checks name the branch's file in the output folder).
+fn curve_source(filed: &Filed, ctx: &StageContext, name: String) -> Result<Source, StageError> {
+    let src = ctx.out_dir.join(&filed.file).display().to_string();
+    let b = &filed.branch;
+    let curve = StressStrainCurve::new(b.strain.clone(), b.stress.clone(), None, &src)
+        .map_err(|e| failed(e.to_string()))?;
     Ok(Source::Curve { curve, name })
 }
 
@@ -205,25 +229,17 @@ fn card_spread(
     ctx: &StageContext,
     mean: &homogenize::Summary,
 ) -> Result<Spread, StageError> {
-    let branch = match h.curve {
-        Curve::Loading => LOADING_CSV,
-        _ => UNLOADING_CSV,
-    };
-    let curves: Vec<(usize, PathBuf)> = ctx
-        .previous
-        .iter()
-        .filter(|r| r.stage == Stage::Discrete)
-        .flat_map(|r| r.files.iter())
-        .filter_map(|f| {
-            let f = PathBuf::from(f);
-            ensemble::realisation_of(&f, branch).map(|k| (k, f))
-        })
-        .collect();
-    let fits: Vec<(usize, Result<Vec<Constant>, String>)> = curves
+    let realisations = ctx
+        .compression()
+        .map_or(&[][..], |c| c.realisations.as_slice());
+    let fits: Vec<(usize, Result<Vec<Constant>, String>)> = realisations
         .par_iter()
-        .map(|(k, f)| {
-            let name = format!("realisation {k}, {}", f.display());
-            let fit = curve_source(&ctx.out_dir.join(f), name)
+        .map(|(k, curves)| {
+            let fit = branch(curves, h.curve)
+                .and_then(|f| {
+                    let name = format!("realisation {k}, {}", f.file.display());
+                    curve_source(f, ctx, name)
+                })
                 .and_then(|src| fit_params(h, s, src))
                 .map_err(|e| e.to_string())
                 .and_then(|p| homogenize::run(&p).map_err(|e| e.to_string()));

@@ -32,6 +32,7 @@ mod discrete_stage;
 pub use discrete_stage::{CHECKPOINT, ENSEMBLE_CSV, ENSEMBLE_LOADING_CSV, LOADING_CSV};
 pub mod ensemble;
 mod halfspace_stage;
+pub mod handoff;
 mod homogenize_stage;
 pub mod items;
 #[cfg(feature = "mpi")]
@@ -43,6 +44,7 @@ mod turf_setup;
 
 use crate::report::{csv::Table, write_json, ReportError};
 use crate::scene::{Loaded, ResolvedScene, Stage};
+pub use handoff::Handoff;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -52,9 +54,11 @@ use std::time::Instant;
 pub struct StageContext<'a> {
     /// the folder the stage writes its files into
     pub out_dir: &'a Path,
-    /// the stages already run for this scene, with their results (for hand-overs such as the
-    /// discrete curve to the homogenize stage)
+    /// the stages already run for this scene, with their results
     pub previous: &'a [StageRecord],
+    /// what the stages already run handed over ([`handoff`]): the discrete stage's curves,
+    /// the homogenize stage's card
+    pub handoffs: &'a [Handoff],
     /// the run's progress bar (on a terminal, not with --json): long stages report their
     /// progress in its message
     pub progress: Option<&'a indicatif::ProgressBar>,
@@ -64,6 +68,24 @@ pub struct StageContext<'a> {
     /// realisations kept in their folders and keeps those it computes; a serial run computes
     /// every realisation
     pub keep_realisations: bool,
+}
+
+impl StageContext<'_> {
+    /// The compression curves an earlier stage handed over.
+    pub fn compression(&self) -> Option<&handoff::Compression> {
+        self.handoffs.iter().find_map(|h| match h {
+            Handoff::Compression(c) => Some(c),
+            Handoff::Card(_) => None,
+        })
+    }
+
+    /// The material card an earlier stage handed over.
+    pub fn card(&self) -> Option<&crate::homogenize::card::MaterialCard> {
+        self.handoffs.iter().find_map(|h| match h {
+            Handoff::Card(c) => Some(c),
+            Handoff::Compression(_) => None,
+        })
+    }
 }
 
 /// What a stage returns: its answer and its cost.
@@ -80,6 +102,8 @@ pub struct StageOutput {
     /// what the user must know about the answer (a fit that misses its data, a file that
     /// could not be written); printed on the terminal and kept in `summary.json`
     pub warnings: Vec<String>,
+    /// what the stages after it use ([`handoff`])
+    pub handoff: Option<Handoff>,
 }
 
 /// Why a stage did not give an answer.
@@ -445,6 +469,7 @@ fn run_point(
     let (scene, dir) = (point.scene, point.dir());
     let key = scene.scene.sweep.as_ref().map_or("", |s| s.key.as_str());
     let mut done: Vec<StageRecord> = Vec::new();
+    let mut handed: Vec<Handoff> = Vec::new();
     for planned in &scene.plan.stages {
         let stage = planned.stage;
         if let Some(b) = bar {
@@ -456,12 +481,16 @@ fn run_point(
         let ctx = StageContext {
             out_dir: &dir,
             previous: &done,
+            handoffs: &handed,
             progress: bar,
             resume: opts.resume,
             keep_realisations: keep,
         };
         let mut failure = run_cached(stage, scene, &point.root, &ctx, runner)
-            .map(|record| done.push(record))
+            .map(|(record, handoff)| {
+                done.push(record);
+                handed.extend(handoff);
+            })
             .err();
         if let Some(b) = bar {
             b.inc(1);
@@ -546,26 +575,37 @@ fn run_cached(
     root: &Path,
     ctx: &StageContext,
     runner: &mut Runner,
-) -> Result<StageRecord, StageError> {
+) -> Result<(StageRecord, Option<Handoff>), StageError> {
     let report = |source| StageError::Report { stage, source };
     let (dir, progress) = (ctx.out_dir, ctx.progress);
     let Some(key) = cache::key(stage, scene, ctx.previous) else {
         return run_one(stage, scene, ctx, runner);
     };
     let start = Instant::now();
-    if let Some(mut record) = cache::reuse(root, dir, stage, &key).map_err(report)? {
-        record.wall_time_s = start.elapsed().as_secs_f64();
-        let line = format!(
-            "{stage}: inputs unchanged, reused {} (not recomputed)",
-            cache::entry_name(stage, &key)
-        );
-        say(progress, &line);
-        return Ok(record);
+    if let Some((mut record, files)) = cache::reuse(root, dir, stage, &key).map_err(report)? {
+        match Handoff::cached(stage, &record, &files) {
+            Ok(handoff) => {
+                record.wall_time_s = start.elapsed().as_secs_f64();
+                let line = format!(
+                    "{stage}: inputs unchanged, reused {} (not recomputed)",
+                    cache::entry_name(stage, &key)
+                );
+                say(progress, &line);
+                return Ok((record, handoff));
+            }
+            Err(e) => say(
+                progress,
+                &format!(
+                    "{stage}: the cache entry {} could not be read back ({e}); recomputing",
+                    cache::entry_name(stage, &key)
+                ),
+            ),
+        }
     }
-    let mut record = run_one(stage, scene, ctx, runner)?;
+    let (mut record, handoff) = run_one(stage, scene, ctx, runner)?;
     record.cache_key = Some(key.hex.clone());
     cache::store(root, dir, &key, &record).map_err(report)?;
-    Ok(record)
+    Ok((record, handoff))
 }
 
 /// Run one stage, time it and write its tables.
@@ -574,7 +614,7 @@ fn run_one(
     scene: &ResolvedScene,
     ctx: &StageContext,
     runner: &mut Runner,
-) -> Result<StageRecord, StageError> {
+) -> Result<(StageRecord, Option<Handoff>), StageError> {
     let dir = ctx.out_dir;
     let start = Instant::now();
     let out = runner(stage, scene, ctx)?;
@@ -596,7 +636,7 @@ fn run_one(
             .map_err(|source| StageError::Report { stage, source })?;
         files.push(file);
     }
-    Ok(StageRecord {
+    let record = StageRecord {
         stage,
         wall_time_s,
         evaluations: out.evaluations,
@@ -605,7 +645,8 @@ fn run_one(
         cached: false,
         cache_key: None,
         warnings: out.warnings,
-    })
+    };
+    Ok((record, out.handoff))
 }
 
 /// A line for the user on stderr: above the progress bar when there is one.

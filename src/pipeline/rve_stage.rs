@@ -114,6 +114,7 @@ pub(super) fn run(
         evaluations: evaluations as u64,
         files: Vec::new(),
         warnings: Vec::new(),
+        handoff: None,
     })
 }
 

@@ -128,5 +128,6 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         evaluations,
         files: files.into_iter().map(Into::into).collect(),
         warnings,
+        handoff: None,
     })
 }

@@ -1,0 +1,208 @@
+//! What a stage hands to the stages after it: typed results in memory — the discrete stage's
+//! compression branches to `homogenize`, the homogenize stage's card to `continuum` — rather
+//! than files read back from the output folder. The files are written for the user and for the
+//! cache; a stage reused from the cache hands over what its cache entry holds
+//! ([`Handoff::cached`]), the one place a hand-over is read from disk.
+
+use super::discrete_stage::{
+    ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV, LOADING_CSV, UNLOADING_CSV,
+};
+use super::{ensemble, StageRecord};
+use crate::discrete::analysis::Branch;
+use crate::homogenize::card::MaterialCard;
+use crate::report::csv::{split_fields, strip_bom};
+use crate::scene::Stage;
+use std::path::{Path, PathBuf};
+
+/// A branch of a compression curve and the file (relative to the output folder) that holds
+/// it for the user.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Filed {
+    /// the file, relative to the output folder
+    pub file: PathBuf,
+    /// nominal strain and stress (GPa), strain ascending
+    pub branch: Branch,
+}
+
+/// The loading branch and, if the turf was unloaded, the unloading branch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curves {
+    /// loading branch
+    pub loading: Filed,
+    /// unloading branch
+    pub unloading: Option<Filed>,
+}
+
+/// The discrete stage's compression curves.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Compression {
+    /// what a card is fitted to: the run's branches, or an ensemble's mean over the
+    /// realisations that finished
+    pub fitted: Curves,
+    /// an ensemble's finished realisations, each with its own branches, in realisation order
+    /// (empty for a single turf)
+    pub realisations: Vec<(usize, Curves)>,
+}
+
+/// A stage's result for the stages after it.
+#[derive(Debug, Clone)]
+pub enum Handoff {
+    /// the discrete stage's compression curves
+    Compression(Compression),
+    /// the homogenize stage's material card
+    Card(MaterialCard),
+}
+
+impl Handoff {
+    /// What `stage`, reused from the cache with `record`, hands over: read from `files`, the
+    /// cache entry's copies of the files the stage wrote. `None` for a stage that hands
+    /// nothing over (a discrete stage that compressed no turf: explicit rods, lateral or shear
+    /// tests).
+    pub fn cached(
+        stage: Stage,
+        record: &StageRecord,
+        files: &Path,
+    ) -> Result<Option<Handoff>, String> {
+        match stage {
+            Stage::Discrete => compression_in(record, files).map(|c| c.map(Handoff::Compression)),
+            Stage::Homogenize => crate::homogenize::read_card(&files.join("material.json"))
+                .map(|c| Some(Handoff::Card(c)))
+                .map_err(|e| e.to_string()),
+            Stage::Theory | Stage::Halfspace | Stage::Continuum => Ok(None),
+        }
+    }
+}
+
+/// The compression curves among the files of a discrete stage's `record` (read from `files`).
+fn compression_in(record: &StageRecord, files: &Path) -> Result<Option<Compression>, String> {
+    let listed = |name: &str| record.files.iter().any(|f| Path::new(f) == Path::new(name));
+    let read = |file: PathBuf| -> Result<Filed, String> {
+        let branch = read_branch(&files.join(&file))?;
+        Ok(Filed { file, branch })
+    };
+    let curves = |loading: &str, unloading: &str| -> Result<Curves, String> {
+        Ok(Curves {
+            loading: read(loading.into())?,
+            unloading: listed(unloading)
+                .then(|| read(unloading.into()))
+                .transpose()?,
+        })
+    };
+    if listed(ENSEMBLE_LOADING_CSV) {
+        let mut realisations = Vec::new();
+        for f in &record.files {
+            let f = Path::new(f);
+            if let Some(k) = ensemble::realisation_of(f, LOADING_CSV) {
+                let unloading = f.with_file_name(UNLOADING_CSV);
+                let unloading = listed(&unloading.display().to_string())
+                    .then(|| read(unloading))
+                    .transpose()?;
+                let loading = read(f.to_path_buf())?;
+                realisations.push((k, Curves { loading, unloading }));
+            }
+        }
+        let fitted = curves(ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV)?;
+        return Ok(Some(Compression {
+            fitted,
+            realisations,
+        }));
+    }
+    if !listed(LOADING_CSV) {
+        return Ok(None);
+    }
+    Ok(Some(Compression {
+        fitted: curves(LOADING_CSV, UNLOADING_CSV)?,
+        realisations: Vec::new(),
+    }))
+}
+
+/// A branch file as the discrete stage writes it: columns `strain` and `stress_GPa`.
+fn read_branch(path: &Path) -> Result<Branch, String> {
+    let name = path.display();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: {e}"))?;
+    let mut lines = strip_bom(&text).lines().filter(|l| !l.trim().is_empty());
+    let header = split_fields(lines.next().unwrap_or_default(), ',')?;
+    if header != ["strain", "stress_GPa"] {
+        return Err(format!(
+            "{name}: expected the columns strain, stress_GPa; found {header:?}"
+        ));
+    }
+    let mut branch = Branch {
+        strain: Vec::new(),
+        stress: Vec::new(),
+    };
+    for (row, line) in lines.enumerate() {
+        let fields = split_fields(line, ',')?;
+        let number = |i: usize| -> Result<f64, String> {
+            fields
+                .get(i)
+                .and_then(|f| f.parse().ok())
+                .ok_or_else(|| format!("{name}: row {}: not two numbers: {line}", row + 1))
+        };
+        branch.strain.push(number(0)?);
+        branch.stress.push(number(1)?);
+    }
+    Ok(branch)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(files: &[&str]) -> StageRecord {
+        StageRecord {
+            stage: Stage::Discrete,
+            wall_time_s: 0.0,
+            evaluations: 0,
+            values: Default::default(),
+            files: files.iter().map(|f| f.to_string()).collect(),
+            cached: true,
+            cache_key: None,
+            warnings: Vec::new(),
+        }
+    }
+
+    fn write(dir: &Path, file: &str, branch: &Branch) {
+        let table = crate::report::csv::Table::new()
+            .column("strain", branch.strain.clone())
+            .column("stress_GPa", branch.stress.clone());
+        table.write(&dir.join(file)).unwrap();
+    }
+
+    /// The branches read from a cache entry are the branches written, bit for bit (the CSV
+    /// holds each number's shortest round-trip form), with their files and realisations.
+    #[test]
+    fn an_ensemble_is_read_back_exactly_from_its_files() {
+        let dir = std::env::temp_dir().join(format!("turf-handoff-{}", std::process::id()));
+        let b = |k: f64| Branch {
+            strain: vec![0.0, 0.1 / 3.0, 0.2],
+            stress: vec![0.0, k * std::f64::consts::PI * 1e-3, k * 2e-3],
+        };
+        let r1 = format!("realisations/r001/{LOADING_CSV}");
+        std::fs::create_dir_all(dir.join("realisations/r001")).unwrap();
+        write(&dir, ENSEMBLE_LOADING_CSV, &b(1.5));
+        write(&dir, LOADING_CSV, &b(1.0));
+        write(&dir, &r1, &b(2.0));
+        let rec = record(&[
+            LOADING_CSV,
+            &r1,
+            ENSEMBLE_LOADING_CSV,
+            "discrete_ensemble.csv",
+        ]);
+        let Some(Handoff::Compression(c)) = Handoff::cached(Stage::Discrete, &rec, &dir).unwrap()
+        else {
+            panic!("no compression handed over");
+        };
+        assert_eq!(c.fitted.loading.branch, b(1.5));
+        assert_eq!(c.fitted.loading.file, PathBuf::from(ENSEMBLE_LOADING_CSV));
+        assert!(c.fitted.unloading.is_none());
+        let ks: Vec<usize> = c.realisations.iter().map(|(k, _)| *k).collect();
+        assert_eq!(ks, [0, 1]);
+        assert_eq!(c.realisations[1].1.loading.branch, b(2.0));
+        assert_eq!(c.realisations[1].1.loading.file, PathBuf::from(&r1));
+        // a record without a compression curve hands nothing over
+        let none = Handoff::cached(Stage::Discrete, &record(&["rods.csv"]), &dir).unwrap();
+        assert!(none.is_none());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
