@@ -529,7 +529,9 @@ fn start(
             }
         }
     }
-    if let Some(f) = fewer {
+    // (a fit with one term fewer that dropped a degenerate term of its own has too few terms
+    // to nest: the grid start stands alone)
+    if let Some(f) = fewer.filter(|f| f.material.terms.len() + 1 == n) {
         let (mu_prev, alpha_prev) = (f.material.mu(), f.material.alpha());
         let total: f64 = mu_prev.iter().sum();
         for &a in &alpha_grid() {
@@ -838,6 +840,27 @@ mod tests {
         // the one-term fit of exact one-term data: solver tolerance
         assert!(fit.rms_rel < 1e-6, "{}", fit.rms_rel);
         assert!((fit.material.terms[0].alpha / 8.4 - 1.0).abs() < 1e-6);
+    }
+
+    /// Three terms asked of one-term data: the two-term fit it nests on has itself dropped to
+    /// one term, so there is nothing to nest — the fit starts from the grid, and returns the
+    /// card the data support with the reason, rather than index past its terms.
+    #[test]
+    fn three_terms_on_one_term_data_nest_on_no_degenerate_fit() {
+        let c = sampled(&Hyperfoam::new(&[0.01], &[8.4], &[0.0]).unwrap());
+        let p = HyperfoamFitParams {
+            terms: 3,
+            ..Default::default()
+        };
+        let fit = fit_hyperfoam(&c, &p).unwrap();
+        assert_eq!(fit.terms_requested, 3);
+        assert!(fit.material.terms.len() < 3, "{:?}", fit.material);
+        assert!(
+            fit.warnings[0].starts_with("3 terms requested"),
+            "{:?}",
+            fit.warnings
+        );
+        assert!(fit.rms_rel < 1e-6, "{}", fit.rms_rel);
     }
 
     #[test]
