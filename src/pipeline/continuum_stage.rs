@@ -13,7 +13,7 @@
 //! [`crate::continuum::arclength`]). The engine's own
 //! files (CSV, plots, VTU) go under `continuum/` in the output folder.
 
-use super::{StageContext, StageError, StageOutput};
+use super::{Handoff, StageContext, StageError, StageOutput};
 use crate::continuum::adhesion::AdhesionParams;
 use crate::continuum::damping::ContactDamping;
 use crate::continuum::events;
@@ -421,7 +421,11 @@ fn transverse_card(path: &std::path::Path) -> Result<Option<Elastic>, StageError
 
 /// Run the stage.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
-    let params = indent_params(scene, ctx.card())?;
+    let card = match ctx.handed(Stage::Homogenize).map_err(failed)? {
+        Some(Handoff::Card(card)) => Some(card),
+        _ => None,
+    };
+    let params = indent_params(scene, card.as_ref())?;
     let mut increments = 0usize;
     let mut report_progress = |p: &Progress| {
         increments += 1;

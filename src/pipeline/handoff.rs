@@ -1,8 +1,9 @@
 //! What a stage hands to the stages after it: typed results in memory — the discrete stage's
 //! compression branches to `homogenize`, the homogenize stage's card to `continuum` — rather
 //! than files read back from the output folder. The files are written for the user and for the
-//! cache; a stage reused from the cache hands over what its cache entry holds
-//! ([`Handoff::cached`]), the one place a hand-over is read from disk.
+//! cache; a stage reused from the cache hands over its cache entry ([`Handoff::Cached`]), read
+//! when a later stage asks for it ([`Handoff::read`]) — the one place a hand-over is read from
+//! disk.
 
 use super::discrete_stage::{
     ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV, LOADING_CSV, UNLOADING_CSV,
@@ -51,24 +52,47 @@ pub enum Handoff {
     Compression(Compression),
     /// the homogenize stage's material card
     Card(MaterialCard),
+    /// a stage reused from the cache: its record and `files`, the cache entry's copies of the
+    /// files it wrote
+    Cached {
+        /// the stage's record
+        record: StageRecord,
+        /// the entry's folder of files
+        files: PathBuf,
+    },
 }
 
 impl Handoff {
-    /// What `stage`, reused from the cache with `record`, hands over: read from `files`, the
-    /// cache entry's copies of the files the stage wrote. `None` for a stage that hands
-    /// nothing over (a discrete stage that compressed no turf: explicit rods, lateral or shear
-    /// tests).
-    pub fn cached(
-        stage: Stage,
-        record: &StageRecord,
-        files: &Path,
-    ) -> Result<Option<Handoff>, String> {
-        match stage {
+    /// What this hands over, a cached stage's read from its cache entry; `None` for a stage
+    /// that hands nothing over (a discrete stage that compressed no turf: explicit rods,
+    /// lateral or shear tests).
+    pub fn read(&self) -> Result<Option<Handoff>, String> {
+        let Handoff::Cached { record, files } = self else {
+            return Ok(Some(self.clone()));
+        };
+        let read = match record.stage {
             Stage::Discrete => compression_in(record, files).map(|c| c.map(Handoff::Compression)),
             Stage::Homogenize => crate::homogenize::read_card(&files.join("material.json"))
                 .map(|c| Some(Handoff::Card(c)))
                 .map_err(|e| e.to_string()),
             Stage::Theory | Stage::Halfspace | Stage::Continuum => Ok(None),
+        };
+        read.map_err(|e| {
+            format!(
+                "the {} stage's cache entry {} could not be read back ({e}); delete it to \
+                 recompute the stage",
+                record.stage,
+                files.parent().unwrap_or(files).display()
+            )
+        })
+    }
+
+    /// The stage that handed this over.
+    pub fn stage(&self) -> Stage {
+        match self {
+            Handoff::Compression(_) => Stage::Discrete,
+            Handoff::Card(_) => Stage::Homogenize,
+            Handoff::Cached { record, .. } => record.stage,
         }
     }
 }
@@ -189,8 +213,11 @@ mod tests {
             ENSEMBLE_LOADING_CSV,
             "discrete_ensemble.csv",
         ]);
-        let Some(Handoff::Compression(c)) = Handoff::cached(Stage::Discrete, &rec, &dir).unwrap()
-        else {
+        let cached = |record: StageRecord| Handoff::Cached {
+            record,
+            files: dir.clone(),
+        };
+        let Some(Handoff::Compression(c)) = cached(rec).read().unwrap() else {
             panic!("no compression handed over");
         };
         assert_eq!(c.fitted.loading.branch, b(1.5));
@@ -201,8 +228,15 @@ mod tests {
         assert_eq!(c.realisations[1].1.loading.branch, b(2.0));
         assert_eq!(c.realisations[1].1.loading.file, PathBuf::from(&r1));
         // a record without a compression curve hands nothing over
-        let none = Handoff::cached(Stage::Discrete, &record(&["rods.csv"]), &dir).unwrap();
+        let none = cached(record(&["rods.csv"])).read().unwrap();
         assert!(none.is_none());
+        // an entry that does not hold what its record lists is an error naming the entry
+        let broken = cached(record(&[
+            "realisations/r002/stress_strain_loading.csv",
+            ENSEMBLE_LOADING_CSV,
+        ]));
+        let e = broken.read().unwrap_err();
+        assert!(e.contains("cache entry") && e.contains("r002"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

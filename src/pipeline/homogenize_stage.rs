@@ -11,7 +11,7 @@
 //! `homogenize/ensemble.json` and `homogenize/card_spread.csv`.
 
 use super::ensemble;
-use super::handoff::{Curves, Filed, Handoff};
+use super::handoff::{Compression, Curves, Filed, Handoff};
 use super::{StageContext, StageError, StageOutput};
 use crate::homogenize::curve::StressStrainCurve;
 use crate::homogenize::{
@@ -60,13 +60,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
                         .into(),
                 ));
             }
-            let compression = ctx.compression().ok_or_else(|| {
-                failed(
-                    "the discrete stage compressed no turf (explicit rods, or a lateral or \
-                     shear test): there is no compression curve to fit"
-                        .into(),
-                )
-            })?;
+            let compression = compression(ctx)?;
             let what = match realisations > 1 {
                 false => "discrete stage".to_string(),
                 true => ensemble_name(ctx, realisations),
@@ -141,6 +135,18 @@ fn ensemble_name(ctx: &StageContext, asked: usize) -> String {
         format!("mean of the discrete stage's {asked} realisations")
     } else {
         format!("mean of the {finished} of the discrete stage's {asked} realisations that finished")
+    }
+}
+
+/// The compression curves the discrete stage handed over.
+fn compression(ctx: &StageContext) -> Result<Compression, StageError> {
+    match ctx.handed(Stage::Discrete).map_err(failed)? {
+        Some(Handoff::Compression(c)) => Ok(c),
+        _ => Err(failed(
+            "the discrete stage compressed no turf (explicit rods, or a lateral or shear test): \
+             there is no compression curve to fit"
+                .into(),
+        )),
     }
 }
 
@@ -229,10 +235,9 @@ fn card_spread(
     ctx: &StageContext,
     mean: &homogenize::Summary,
 ) -> Result<Spread, StageError> {
-    let realisations = ctx
-        .compression()
-        .map_or(&[][..], |c| c.realisations.as_slice());
-    let fits: Vec<(usize, Result<Vec<Constant>, String>)> = realisations
+    let compression = compression(ctx)?;
+    let fits: Vec<(usize, Result<Vec<Constant>, String>)> = compression
+        .realisations
         .par_iter()
         .map(|(k, curves)| {
             let fit = branch(curves, h.curve)

@@ -71,20 +71,13 @@ pub struct StageContext<'a> {
 }
 
 impl StageContext<'_> {
-    /// The compression curves an earlier stage handed over.
-    pub fn compression(&self) -> Option<&handoff::Compression> {
-        self.handoffs.iter().find_map(|h| match h {
-            Handoff::Compression(c) => Some(c),
-            Handoff::Card(_) => None,
-        })
-    }
-
-    /// The material card an earlier stage handed over.
-    pub fn card(&self) -> Option<&crate::homogenize::card::MaterialCard> {
-        self.handoffs.iter().find_map(|h| match h {
-            Handoff::Card(c) => Some(c),
-            Handoff::Compression(_) => None,
-        })
+    /// What `stage` handed over, read from its cache entry if it was reused (`Ok(None)`: the
+    /// stage did not run or handed nothing over).
+    pub fn handed(&self, stage: Stage) -> Result<Option<Handoff>, String> {
+        match self.handoffs.iter().find(|h| h.stage() == stage) {
+            Some(h) => h.read(),
+            None => Ok(None),
+        }
     }
 }
 
@@ -583,24 +576,17 @@ fn run_cached(
     };
     let start = Instant::now();
     if let Some((mut record, files)) = cache::reuse(root, dir, stage, &key).map_err(report)? {
-        match Handoff::cached(stage, &record, &files) {
-            Ok(handoff) => {
-                record.wall_time_s = start.elapsed().as_secs_f64();
-                let line = format!(
-                    "{stage}: inputs unchanged, reused {} (not recomputed)",
-                    cache::entry_name(stage, &key)
-                );
-                say(progress, &line);
-                return Ok((record, handoff));
-            }
-            Err(e) => say(
-                progress,
-                &format!(
-                    "{stage}: the cache entry {} could not be read back ({e}); recomputing",
-                    cache::entry_name(stage, &key)
-                ),
-            ),
-        }
+        record.wall_time_s = start.elapsed().as_secs_f64();
+        let line = format!(
+            "{stage}: inputs unchanged, reused {} (not recomputed)",
+            cache::entry_name(stage, &key)
+        );
+        say(progress, &line);
+        let handoff = Handoff::Cached {
+            record: record.clone(),
+            files,
+        };
+        return Ok((record, Some(handoff)));
     }
     let (mut record, handoff) = run_one(stage, scene, ctx, runner)?;
     record.cache_key = Some(key.hex.clone());
