@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release --features rapier --example rapier_preview -- SCENE REALISATION
 //! [REFERENCE_CSV] [key=value ...]` with keys relax, per, hold, stability, damping, contacts
-//! (0/1), increments. REFERENCE_CSV: the discrete stage's `stress_strain.csv` of that
+//! (0/1), multibody (0/1), increments, to (the largest strain),
+//! iterations (rapier's solver iterations). REFERENCE_CSV: the discrete stage's `stress_strain.csv` of that
 //! realisation (columns strain, stress_GPa).
 
 use std::path::Path;
@@ -21,6 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let s = &loaded.base.scene;
     let k = s.compression.as_ref().ok_or("no [compression]")?;
     let mut increments = k.steps;
+    let mut strain_max = k.to.0;
     for a in &args[2..] {
         match a.split_once('=') {
             Some(("relax", v)) => p.relax_steps = v.parse()?,
@@ -31,18 +33,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Some(("contacts", v)) => p.contacts = v == "1",
             Some(("multibody", v)) => p.multibody = v == "1",
             Some(("increments", v)) => increments = v.parse()?,
+            Some(("to", v)) => strain_max = v.parse()?,
+            Some(("iterations", v)) => p.solver_iterations = v.parse()?,
             Some(_) => return Err(format!("unknown key in {a}").into()),
             None => reference = Some(a.clone()),
         }
     }
     let t = s.turf.as_ref().ok_or("no [turf]")?;
     let (turf, mut sys) = turf::pipeline::scene_turf_system(s, index)?;
-    let preview = preview_compression(&turf, &mut sys, t.tube.youngs.0, k.to.0, increments, &p);
-    println!("strain,stress_GPa,min_gap_nm,joint_error_nm");
+    let preview = preview_compression(&turf, &mut sys, t.tube.youngs.0, strain_max, increments, &p);
+    println!("strain,stress_GPa,min_gap_nm,joint_error_nm,top_nm");
     for r in &preview.steps {
         println!(
-            "{:.6},{:.6e},{:.4},{:.3e}",
-            r.strain, r.stress, r.min_gap, r.joint_error
+            "{:.6},{:.6e},{:.4},{:.3e},{:.2}",
+            r.strain, r.stress, r.min_gap, r.joint_error, r.top
         );
     }
     eprintln!(

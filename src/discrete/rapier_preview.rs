@@ -48,6 +48,8 @@ pub struct PreviewParams {
     pub contacts: bool,
     /// joints as a reduced-coordinate multibody (exact joints) instead of impulse joints
     pub multibody: bool,
+    /// rapier's constraint-solver iterations per step (its default: 4)
+    pub solver_iterations: usize,
 }
 
 impl Default for PreviewParams {
@@ -59,7 +61,8 @@ impl Default for PreviewParams {
             stability: 0.5,
             damping: 0.05,
             contacts: true,
-            multibody: true,
+            multibody: false,
+            solver_iterations: 4,
         }
     }
 }
@@ -75,6 +78,8 @@ pub struct PreviewStep {
     pub min_gap: f64,
     /// largest joint gap (distance between the two anchors of a joint), nm
     pub joint_error: f64,
+    /// top of the turf, max(z + r) over the free nodes, nm
+    pub top: f64,
 }
 
 /// The preview's curve and cost.
@@ -152,6 +157,7 @@ impl World {
         let mut world = PhysicsWorld::new();
         world.gravity = Vector::ZERO;
         world.integration_parameters.dt = 1.0;
+        world.integration_parameters.num_solver_iterations = p.solver_iterations;
         let layout = turf.layout();
         // mass scaling: the stiffest spring a body meets at ω dt = stability
         let (mut k_tr, mut k_rot) = (0.0f64, 0.0f64);
@@ -175,7 +181,15 @@ impl World {
             }
         }
         let s2 = p.stability * p.stability;
-        let (mass, inertia) = (k_tr / s2, k_rot / s2);
+        // forces at a segment's ends turn it about its centre with the lever ℓ/2
+        let l_max = turf
+            .tubes
+            .iter()
+            .flat_map(|t| t.nodes.windows(2))
+            .map(|w| (na(Vector::from(w[1])) - na(Vector::from(w[0]))).norm())
+            .fold(0.0f64, f64::max);
+        let mass = k_tr / s2;
+        let inertia = (k_rot / s2).max(0.25 * mass * l_max * l_max);
         let mut chains = Vec::with_capacity(turf.tubes.len());
         for (t, l) in turf.tubes.iter().zip(&layout) {
             let s = RodStiffness::hollow_tube(youngs, t.radius_outer, t.radius_inner);
@@ -335,6 +349,7 @@ pub fn preview_compression(
             stress: state.platen_force / sys.area,
             min_gap: state.min_gap,
             joint_error,
+            top: sys.height(x),
         });
     };
     w.coordinates(&mut x);
