@@ -40,8 +40,6 @@ mod rve_stage;
 pub mod shard;
 mod theory_stage;
 mod turf_setup;
-#[cfg(feature = "rapier")]
-pub use turf_setup::scene_turf_system;
 
 use crate::report::{csv::Table, write_json, ReportError};
 use crate::scene::{Loaded, ResolvedScene, Stage};

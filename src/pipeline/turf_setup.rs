@@ -83,20 +83,6 @@ pub(super) fn turf_system(
     Ok((turf, sys, vdw))
 }
 
-/// Realisation `index` of a scene's turf and its system, as the discrete stage builds them
-/// (for the rapier preview's comparison with the static engine).
-#[cfg(feature = "rapier")]
-pub fn scene_turf_system(
-    s: &crate::scene::Scene,
-    index: usize,
-) -> Result<(Turf, TurfSystem), StageError> {
-    let (Some(t), Some(k)) = (&s.turf, &s.compression) else {
-        return Err(failed("the scene has no [turf] and [compression]".into()));
-    };
-    let seed = super::ensemble::realisation_seed(s.scene.seed, index);
-    turf_system(s, t, k, seed).map(|(turf, sys, _)| (turf, sys))
-}
-
 /// The `[turf]` section as generation parameters (no radius scatter: the scene has none).
 fn turf_params(t: &crate::scene::turf::Turf, seed: u64) -> TurfParams {
     let g = &t.growth;
