@@ -1,13 +1,13 @@
 //! The discrete turf (seed chapter 2.4): tubes as elastica chains, van der Waals contacts,
-//! broadphase, generation, drives, analysis.
+//! broadphase, generation, drives.
 //!
 //! Entry points: [`turf::generate_turf`] (a turf from `[turf]`), [`model::TurfSystem`] (its
 //! energy and clamps), [`model::relax`] (contacts form, E = U − Γ), [`drive::compress`] (the
 //! platen drive; [`checkpoint`] saves it after every step for `--resume`), [`rve::drive_rve`]
-//! (lateral compression and longitudinal shear of the periodic volume),
-//! [`analysis::CurveAnalysis`] (σ₀, tangent law, hysteresis).
+//! (lateral compression and longitudinal shear of the periodic volume). The curve a drive
+//! records is analysed (σ₀, tangent law, hysteresis) by
+//! [`crate::homogenize::curve_analysis`].
 
-pub mod analysis;
 pub mod broadphase;
 pub mod checkpoint;
 pub mod constraints;

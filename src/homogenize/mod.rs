@@ -15,11 +15,15 @@
 //! 6. the cards `material.json` and `material.inp` ([`card::MaterialCard`]), a summary, the
 //!    curves and a plot ([`write_outputs`]).
 //!
+//! The discrete stage's own reading of its curve — branches, σ₀ = E⁰ε₀, work and hysteresis —
+//! is [`curve_analysis`].
+//!
 //! Entry points: [`run`] (pure: data in, card and fits out), [`write_outputs`] (the files),
 //! [`hyperfoam::Hyperfoam::drive`] (single-point driver used to check cards).
 
 pub mod card;
 pub mod curve;
+pub mod curve_analysis;
 pub mod fit_hyperfoam;
 pub mod hyperfoam;
 pub mod prony;

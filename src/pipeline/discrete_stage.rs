@@ -34,7 +34,6 @@ use super::ensemble::{self, PathEnsemble};
 use super::handoff::{self, Curves, Filed, Handoff};
 use super::turf_setup::{failed, static_solver, turf_system, vdw_params};
 use super::{StageContext, StageError, StageOutput};
-use crate::discrete::analysis::{Branch, CurveAnalysis};
 use crate::discrete::checkpoint::{Checkpoint, SavedRelaxation};
 use crate::discrete::drive::{
     compress, CompressionParams, DriveError, Resume, SavedStep, StepRecord,
@@ -47,6 +46,7 @@ use crate::discrete::structure::Structure;
 use crate::discrete::turf::Turf;
 use crate::discrete::vdw::VdwParams;
 use crate::discrete::vdw_term::TubeLayout;
+use crate::homogenize::curve_analysis::{Branch, CurveAnalysis};
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
 use crate::report::vtk::{CellKind, DataArray, Grid};

@@ -16,7 +16,7 @@
 //!   finished; [`crate::numerics::statistics`]). One realisation has no interval, and the
 //!   files say so instead of writing a NaN.
 
-use crate::discrete::analysis::Branch;
+use crate::homogenize::curve_analysis::Branch;
 use crate::numerics::statistics::Estimate;
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};

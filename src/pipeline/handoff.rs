@@ -9,8 +9,8 @@ use super::discrete_stage::{
     ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV, LOADING_CSV, UNLOADING_CSV,
 };
 use super::{ensemble, StageRecord};
-use crate::discrete::analysis::Branch;
 use crate::homogenize::card::MaterialCard;
+use crate::homogenize::curve_analysis::Branch;
 use crate::report::csv::{split_fields, strip_bom};
 use crate::scene::Stage;
 use std::path::{Path, PathBuf};

@@ -14,9 +14,9 @@
 //!
 //! Works per unit volume are in GPa (= GJ/m³).
 
-use crate::homogenize::curve::StressStrainCurve;
-use crate::homogenize::quality;
-use crate::homogenize::tangent_law::{fit_tangent_law, TangentFitParams, TangentLawFit};
+use super::curve::StressStrainCurve;
+use super::quality;
+use super::tangent_law::{fit_tangent_law, TangentFitParams, TangentLawFit};
 
 /// One branch of the curve, strain ascending.
 #[derive(Debug, Clone, PartialEq)]
