@@ -31,7 +31,10 @@
 //! instead of recomputing it.
 
 use super::ensemble::{self, PathEnsemble};
-use super::handoff::{self, Curves, Filed, Handoff};
+use super::handoff::{
+    self, Curves, Filed, Handoff, ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV, LOADING_CSV,
+    UNLOADING_CSV,
+};
 use super::turf_setup::{failed, static_solver, turf_system, vdw_params};
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::checkpoint::{Checkpoint, SavedRelaxation};
@@ -70,11 +73,6 @@ struct RelaxReport {
     state: State,
     cost: SavedRelaxation,
 }
-
-/// File names of the branches handed to the homogenize stage.
-pub const LOADING_CSV: &str = "stress_strain_loading.csv";
-/// See [`LOADING_CSV`].
-pub(super) const UNLOADING_CSV: &str = "stress_strain_unloading.csv";
 
 fn report(source: ReportError) -> StageError {
     StageError::Report {
@@ -758,10 +756,6 @@ const ENSEMBLE_SCALARS: [(&str, &str); 12] = [
 
 /// The ensemble's mean stress–strain curve along the common path, every step.
 pub const ENSEMBLE_CSV: &str = "discrete_ensemble.csv";
-/// The ensemble's mean loading branch (strain ascending), what homogenize fits for N > 1.
-pub const ENSEMBLE_LOADING_CSV: &str = "ensemble_stress_strain_loading.csv";
-/// The ensemble's mean unloading branch (strain ascending).
-pub(super) const ENSEMBLE_UNLOADING_CSV: &str = "ensemble_stress_strain_unloading.csv";
 /// The ensemble's report: seeds, estimates, failures.
 const ENSEMBLE_JSON: &str = "discrete_ensemble.json";
 

@@ -5,15 +5,22 @@
 //! when a later stage asks for it ([`Handoff::read`]) — the one place a hand-over is read from
 //! disk.
 
-use super::discrete_stage::{
-    ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV, LOADING_CSV, UNLOADING_CSV,
-};
 use super::{ensemble, StageRecord};
 use crate::homogenize::card::MaterialCard;
 use crate::homogenize::curve_analysis::Branch;
 use crate::report::csv::{split_fields, strip_bom};
 use crate::scene::Stage;
 use std::path::{Path, PathBuf};
+
+/// The files of a turf's branches (a realisation's, in its folder) as the discrete stage writes
+/// them for the user and the cache: strain and stress (GPa), strain ascending.
+pub const LOADING_CSV: &str = "stress_strain_loading.csv";
+/// See [`LOADING_CSV`].
+pub const UNLOADING_CSV: &str = "stress_strain_unloading.csv";
+/// The ensemble's mean loading branch, what homogenize fits for N > 1.
+pub const ENSEMBLE_LOADING_CSV: &str = "ensemble_stress_strain_loading.csv";
+/// The ensemble's mean unloading branch.
+pub const ENSEMBLE_UNLOADING_CSV: &str = "ensemble_stress_strain_unloading.csv";
 
 /// A branch of a compression curve and the file (relative to the output folder) that holds
 /// it for the user.

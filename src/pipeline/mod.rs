@@ -29,7 +29,7 @@ pub mod cache;
 mod continuum_stage;
 pub use continuum_stage::{mesh_preview, MeshPreview};
 mod discrete_stage;
-pub use discrete_stage::{CHECKPOINT, ENSEMBLE_CSV, ENSEMBLE_LOADING_CSV, LOADING_CSV};
+pub use discrete_stage::{CHECKPOINT, ENSEMBLE_CSV};
 pub mod ensemble;
 mod halfspace_stage;
 pub mod handoff;
@@ -44,7 +44,7 @@ mod turf_setup;
 
 use crate::report::{csv::Table, write_json, ReportError};
 use crate::scene::{Loaded, ResolvedScene, Stage};
-pub use handoff::Handoff;
+pub use handoff::{Handoff, ENSEMBLE_LOADING_CSV, LOADING_CSV};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
