@@ -146,20 +146,8 @@ pub fn solve<P: Problem>(
     params: &Params,
 ) -> Result<(Vec<f64>, Info), Error> {
     let n = problem.parameters();
-    let mut p = DVector::from_column_slice(start);
-    let mut r = problem
-        .residuals(p.as_slice())
-        .filter(finite)
-        .ok_or_else(|| Error::BadStart {
-            start: start.to_vec(),
-        })?;
+    let (mut p, mut r) = start_point(problem, start)?;
     let m = r.len();
-    if m < n {
-        return Err(Error::Underdetermined {
-            residuals: m,
-            parameters: n,
-        });
-    }
     let mut evaluations = 1;
     let mut cost = 0.5 * r.norm_squared();
     let mut history = vec![cost];
@@ -261,6 +249,28 @@ pub fn solve<P: Problem>(
             covariance,
         },
     ))
+}
+
+/// The start and its residuals: finite, and at least as many as parameters.
+fn start_point<P: Problem>(
+    problem: &P,
+    start: &[f64],
+) -> Result<(DVector<f64>, DVector<f64>), Error> {
+    let n = problem.parameters();
+    let p = DVector::from_column_slice(start);
+    let r = problem
+        .residuals(p.as_slice())
+        .filter(finite)
+        .ok_or_else(|| Error::BadStart {
+            start: start.to_vec(),
+        })?;
+    if r.len() < n {
+        return Err(Error::Underdetermined {
+            residuals: r.len(),
+            parameters: n,
+        });
+    }
+    Ok((p, r))
 }
 
 /// The Levenberg–Marquardt step δ of (JᵀJ + λ diag(JᵀJ)) δ = −g (Marquardt's scaling), None if the

@@ -419,13 +419,17 @@ fn transverse_card(path: &std::path::Path) -> Result<Option<Elastic>, StageError
     })))
 }
 
+/// The card this run's homogenize stage handed over, if it ran.
+fn fitted_card(ctx: &StageContext) -> Result<Option<MaterialCard>, StageError> {
+    match ctx.handed(Stage::Homogenize).map_err(failed)? {
+        Some(Handoff::Card(card)) => Ok(Some(card)),
+        _ => Ok(None),
+    }
+}
+
 /// Run the stage.
 pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutput, StageError> {
-    let card = match ctx.handed(Stage::Homogenize).map_err(failed)? {
-        Some(Handoff::Card(card)) => Some(card),
-        _ => None,
-    };
-    let params = indent_params(scene, card.as_ref())?;
+    let params = indent_params(scene, fitted_card(ctx)?.as_ref())?;
     let mut increments = 0usize;
     let mut report_progress = |p: &Progress| {
         increments += 1;
