@@ -59,16 +59,9 @@ pub enum ArcLengthError {
         /// residual history, nN
         residuals: Vec<f64>,
     },
-    /// the corrector's line search found no acceptable step
-    #[error("line search failed after {backtracks} halvings at iteration {iteration}: {reason}")]
-    LineSearch {
-        /// iteration
-        iteration: usize,
-        /// halvings
-        backtracks: usize,
-        /// the last trial's problem
-        reason: String,
-    },
+    /// the corrector's Newton loop failed otherwise (its line search)
+    #[error("{0}")]
+    Newton(Box<NewtonError<ArcLengthError>>),
     /// the controlled variable does not change along the curve at a segment's start
     #[error("segment {segment} ({seg:?}): the controlled variable does not change along the curve at its start (no contact under load control?)")]
     Stationary {
@@ -283,16 +276,8 @@ impl Curve<'_> {
                 iterations,
                 residuals,
             }),
-            Err(NewtonError::LineSearch {
-                iteration,
-                backtracks,
-                reason,
-            }) => Err(ArcLengthError::LineSearch {
-                iteration,
-                backtracks,
-                reason,
-            }),
             Err(NewtonError::Problem(e)) => Err(e),
+            Err(e) => Err(ArcLengthError::Newton(Box::new(e))),
         }
     }
 
