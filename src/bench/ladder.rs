@@ -17,7 +17,7 @@
 
 use super::presets::tabor_sphere;
 use super::sweeps::{cantilever_deflection, hertz_load, HERTZ_E_STAR};
-use super::{timed, Cost, Row};
+use super::{timed, BenchError, Cost, Row};
 use crate::continuum::element::Kinematics;
 use crate::continuum::events::normalised_pull_off;
 use crate::continuum::{run_indent, FeError, IndentParams, IndentResult};
@@ -35,11 +35,11 @@ const CANTILEVER_ALPHA_2: f64 = 0.49346;
 const R_OVER_Z0: f64 = 1000.0;
 
 /// FE run that keeps what a stopped run had.
-fn indent(p: &IndentParams) -> Result<IndentResult, String> {
+fn indent(p: &IndentParams) -> Result<IndentResult, BenchError> {
     match run_indent(p, &mut |_| {}) {
         Ok(r) => Ok(r),
         Err(FeError::Stopped(r)) => Ok(*r),
-        Err(e) => Err(e.to_string()),
+        Err(e) => Err(e.into()),
     }
 }
 
@@ -55,16 +55,16 @@ pub fn pull_off_rows(mu: f64, fe: bool) -> Vec<Row> {
     let problem = format!("pull-off P/(πγR), LJ 9-3 sphere, μ = {mu}");
     let lambda = lambda_per_mu(LjKind::Lj93) * mu;
     let (md, c_md) = timed(|| Model::Maugis { lambda }.pull_off(Control::Load));
-    let md = md.map_err(|e| e.to_string());
+    let md = md.map_err(BenchError::from);
     let (hs, c_hs) = timed(|| {
         Problem::scaled(mu, LjKind::Lj93).and_then(|p| pull_off(&p, &HalfspaceParams::default()))
     });
     let (reference, source, hs_row) = match &hs {
         Ok(h) => (h.extrapolated, "half-space, extrapolated", Ok(h.normalized)),
         Err(e) => (
-            md.clone().unwrap_or(f64::NAN),
+            md.as_ref().copied().unwrap_or(f64::NAN),
             "Maugis–Dugdale (the half-space failed)",
-            Err(e.to_string()),
+            Err(BenchError::from(e.clone())),
         ),
     };
     let hs_note = hs.as_ref().map_or(String::new(), |h| {
@@ -99,7 +99,7 @@ pub fn pull_off_rows(mu: f64, fe: bool) -> Vec<Row> {
                 Ok(r) => {
                     let s = r.summary();
                     (
-                        normalised_pull_off(&r).ok_or_else(|| "no pull-off reached".to_string()),
+                        normalised_pull_off(&r).ok_or(BenchError::NoPullOff),
                         format!(
                             "R/z₀ = {R_OVER_Z0}, {} elements, damping {:.2} % of the strain energy{}",
                             r.mesh_report.elements,
@@ -220,7 +220,7 @@ pub fn turf_rows(out: &Path) -> Vec<Row> {
 }
 
 /// The one row of a chain that failed before it had an answer.
-fn failed_row(problem: &str, fidelity: &str, e: String) -> Row {
+fn failed_row(problem: &str, fidelity: &str, e: BenchError) -> Row {
     let cost = Cost {
         wall_s: 0.0,
         cpu_s: None,
@@ -265,26 +265,33 @@ impl ChainRun {
         dir: PathBuf,
         fresh: bool,
         keep_stopped_fe: bool,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, BenchError> {
         if fresh && dir.exists() {
-            std::fs::remove_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            std::fs::remove_dir_all(&dir).map_err(|error| BenchError::Io {
+                path: dir.clone(),
+                error,
+            })?;
         }
-        let loaded =
-            crate::scene::load_str(text, Path::new(file), &[]).map_err(|e| e.to_string())?;
+        let loaded = crate::scene::load_str(text, Path::new(file), &[])?;
         let opts = RunOptions {
             out: Some(dir.clone()),
             progress: false,
             resume: false,
         };
         let (report, total) = timed(|| pipeline::run(&loaded, &opts));
-        let report = report.map_err(|e| e.to_string())?;
+        let report = report?;
         match &report.failure {
             // an FE that stopped keeps its rows so far: the caller reads what it reached
             Some(StageError::Failed {
                 stage: Stage::Continuum,
                 ..
             }) if keep_stopped_fe => {}
-            Some(f) => return Err(format!("{file}: {f}")),
+            Some(f) => {
+                return Err(BenchError::Chain {
+                    file: file.to_string(),
+                    failure: f.to_string(),
+                })
+            }
             None => {}
         }
         Ok(ChainRun {
@@ -295,27 +302,33 @@ impl ChainRun {
         })
     }
 
-    fn stage(&self, s: Stage) -> Result<&StageRecord, String> {
+    fn stage(&self, s: Stage) -> Result<&StageRecord, BenchError> {
         self.report
             .summary
             .stages
             .iter()
             .find(|r| r.stage == s)
-            .ok_or_else(|| format!("no {s:?} stage in {}", self.dir.display()))
+            .ok_or_else(|| BenchError::NoStage {
+                stage: s,
+                dir: self.dir.clone(),
+            })
     }
 
-    fn value(&self, s: Stage, name: &str) -> Result<f64, String> {
+    fn value(&self, s: Stage, name: &str) -> Result<f64, BenchError> {
         self.stage(s)?
             .values
             .get(name)
             .copied()
-            .ok_or_else(|| format!("the {s} stage reported no {name}"))
+            .ok_or_else(|| BenchError::NoValue {
+                stage: s,
+                name: name.to_string(),
+            })
     }
 
     /// The cost of stage `s`: the stage records carry wall time only, so the CPU of the whole
     /// run is split by wall share. A stage reused from the cache costs what it cost when it was
     /// computed: the sum of its own `wall_time_*` values, CPU unknown.
-    fn cost(&self, s: Stage) -> Result<Cost, String> {
+    fn cost(&self, s: Stage) -> Result<Cost, BenchError> {
         let r = self.stage(s)?;
         if r.cached {
             let wall = r
@@ -344,7 +357,7 @@ impl ChainRun {
     }
 }
 
-fn quickstart(out: &Path) -> Result<Quickstart, String> {
+fn quickstart(out: &Path) -> Result<Quickstart, BenchError> {
     use crate::homogenize::hyperfoam::Mode;
     let run = ChainRun::new(
         include_str!("../../scenes/quickstart.toml"),
@@ -357,15 +370,9 @@ fn quickstart(out: &Path) -> Result<Quickstart, String> {
     let discrete_cost = run.cost(Stage::Discrete)?;
     let fit_s = run.stage(Stage::Homogenize)?.wall_time_s;
     let fe_cost = run.cost(Stage::Continuum)?;
-    let fe = run.stage(Stage::Continuum)?;
-    let fe_peak = *fe
-        .values
-        .get("max_load_nN")
-        .ok_or("the continuum stage reported no max_load_nN")?;
-    let curve = crate::homogenize::read_curve(&dir.join(pipeline::LOADING_CSV))
-        .map_err(|e| e.to_string())?;
-    let card =
-        crate::homogenize::read_card(&dir.join("material.json")).map_err(|e| e.to_string())?;
+    let fe_peak = run.value(Stage::Continuum, "max_load_nN")?;
+    let curve = crate::homogenize::read_curve(&dir.join(pipeline::LOADING_CSV))?;
+    let card = crate::homogenize::read_card(&dir.join("material.json"))?;
     let (card_stress, card_cost) = timed(|| {
         curve
             .strain
@@ -377,9 +384,9 @@ fn quickstart(out: &Path) -> Result<Quickstart, String> {
             })
             .collect::<Result<Vec<f64>, _>>()
     });
-    let card_stress = card_stress.map_err(|e| e.to_string())?;
+    let card_stress = card_stress?;
     let n = curve.stress.len();
-    let last = *curve.stress.last().ok_or("empty discrete curve")?;
+    let last = *curve.stress.last().ok_or(BenchError::EmptyCurve)?;
     let scale = curve.stress.iter().fold(0.0f64, |m, s| m.max(s.abs()));
     let rms = (curve
         .stress
@@ -441,15 +448,21 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
 
 /// The `(depth_nm, load_nN)` columns of a `load_depth.csv` written by the discrete or the
 /// continuum stage (loading part only: up to the deepest point).
-fn read_load_depth(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+fn read_load_depth(path: &Path) -> Result<(Vec<f64>, Vec<f64>), BenchError> {
+    let text = std::fs::read_to_string(path).map_err(|error| BenchError::Io {
+        path: path.to_path_buf(),
+        error,
+    })?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
     let col = |name: &str| {
         header
             .iter()
             .position(|h| *h == name)
-            .ok_or_else(|| format!("{}: no column {name}", path.display()))
+            .ok_or_else(|| BenchError::NoColumn {
+                path: path.to_path_buf(),
+                column: name.to_string(),
+            })
     };
     let (d, p) = (col("depth_nm")?, col("load_nN")?);
     let (mut depth, mut load) = (Vec::new(), Vec::new());
@@ -459,7 +472,10 @@ fn read_load_depth(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
             cells
                 .get(c)
                 .and_then(|v| v.parse::<f64>().ok())
-                .ok_or_else(|| format!("{}: line {}: not a number", path.display(), i + 2))
+                .ok_or_else(|| BenchError::NotANumber {
+                    path: path.to_path_buf(),
+                    line: i + 2,
+                })
         };
         let (x, y) = (num(d)?, num(p)?);
         if depth.last().is_some_and(|&last| x < last) {
@@ -479,20 +495,27 @@ fn sphere_scene(
     seed: u64,
     depth: f64,
     height: f64,
-) -> Result<String, String> {
+) -> Result<String, BenchError> {
     use toml::Value;
-    let mut doc: toml::Table = spec
-        .scene
-        .parse()
-        .map_err(|e: toml::de::Error| format!("{}: {}", spec.name, e.message()))?;
+    let missing = |what| BenchError::Missing {
+        scene: spec.name.to_string(),
+        what,
+    };
+    let mut doc: toml::Table =
+        spec.scene
+            .parse()
+            .map_err(|e: toml::de::Error| BenchError::Toml {
+                scene: spec.name.to_string(),
+                message: e.message().to_string(),
+            })?;
     let radius = doc
         .get("indenter")
         .and_then(|i| i.get("radius"))
         .cloned()
-        .ok_or_else(|| format!("{}: no indenter.radius", spec.name))?;
+        .ok_or_else(|| missing("indenter.radius"))?;
     doc.retain(|k, _| matches!(k, "scene" | "turf" | "compression"));
     let Some(Value::Table(k)) = doc.get_mut("compression") else {
-        return Err(format!("{}: no [compression]", spec.name));
+        return Err(missing("[compression]"));
     };
     k.insert("indenter".into(), Value::String("sphere".into()));
     k.insert("sphere_radius".into(), radius);
@@ -500,10 +523,10 @@ fn sphere_scene(
     k.insert("steps".into(), Value::Integer(spec.sphere_steps as i64));
     k.insert("unload".into(), Value::Boolean(false));
     let Some(Value::Table(s)) = doc.get_mut("scene") else {
-        return Err(format!("{}: no [scene]", spec.name));
+        return Err(missing("[scene]"));
     };
     s.insert("seed".into(), Value::Integer(seed as i64));
-    toml::to_string(&doc).map_err(|e| e.to_string())
+    Ok(toml::to_string(&doc)?)
 }
 
 /// Said of a cost taken from the stage cache.
@@ -534,7 +557,11 @@ struct TurfIndent {
     spheres: Vec<SphereRun>,
 }
 
-fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, String> {
+fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchError> {
+    let missing = |what| BenchError::Missing {
+        scene: spec.name.to_string(),
+        what,
+    };
     let chain = ChainRun::new(spec.scene, spec.name, out.join(spec.name), false, true)?;
     let fe = read_load_depth(&chain.dir.join("continuum/load_depth.csv"))?;
     let deepest = chain
@@ -544,7 +571,7 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, String> 
         .schedule
         .as_ref()
         .map(|t| t.max_depth_nm)
-        .ok_or_else(|| format!("{}: no [schedule]", spec.name))?;
+        .ok_or_else(|| missing("[schedule]"))?;
     let height = chain.value(Stage::Discrete, "turf_height_nm")?;
     let scene = &chain.loaded.base.scene;
     let seed = scene.scene.seed;
@@ -591,7 +618,7 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, String> 
     };
     let radius = scene.indenter.as_ref().map(|i| i.radius.0);
     Ok(TurfIndent {
-        radius: radius.ok_or_else(|| format!("{}: no [indenter]", spec.name))?,
+        radius: radius.ok_or_else(|| missing("[indenter]"))?,
         box_nm: scene.turf.as_ref().map_or(f64::NAN, |t| t.box_size[0].0),
         height,
         fe,
@@ -628,11 +655,9 @@ pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
             t.radius
         );
         let at = |c: &(Vec<f64>, Vec<f64>)| {
-            interpolate(&c.0, &c.1, d).ok_or_else(|| {
-                format!(
-                    "δ = {d} nm is beyond the curve (to {:.1} nm)",
-                    c.0.last().unwrap_or(&0.0)
-                )
+            interpolate(&c.0, &c.1, d).ok_or_else(|| BenchError::BeyondCurve {
+                depth: d,
+                end: *c.0.last().unwrap_or(&0.0),
             })
         };
         let Some(first) = t.spheres.first() else {
@@ -669,7 +694,10 @@ pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
         rows.push(Row::new(
             &problem,
             "FE on the card (finite strain, no adhesion)",
-            at(&t.fe).map_err(|e| format!("{e}; {}", t.fe_note)),
+            at(&t.fe).map_err(|e| BenchError::Noted {
+                error: Box::new(e),
+                note: t.fe_note.clone(),
+            }),
             (reference, &source),
             t.fe_cost,
             format!(

@@ -16,6 +16,139 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// Why a bench answer, sweep or chain run could not be had.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// the FE run failed
+    #[error(transparent)]
+    Fe(#[from] crate::continuum::FeError),
+    /// the half-space solver failed
+    #[error(transparent)]
+    Halfspace(#[from] crate::halfspace::HalfspaceError),
+    /// a closed form could not be evaluated
+    #[error(transparent)]
+    Theory(#[from] crate::theory::TheoryError),
+    /// a discrete rod could not be built
+    #[error(transparent)]
+    Rod(#[from] crate::discrete::rod::RodError),
+    /// the discrete Newton solve failed
+    #[error(transparent)]
+    Solve(#[from] crate::discrete::solve::SolveError),
+    /// a bench scene could not be loaded
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    /// a run's report could not be written
+    #[error(transparent)]
+    Report(#[from] ReportError),
+    /// a discrete curve could not be read
+    #[error(transparent)]
+    Curve(#[from] crate::homogenize::curve::CurveError),
+    /// a material card could not be read
+    #[error(transparent)]
+    Card(#[from] crate::homogenize::card::CardError),
+    /// a card could not be evaluated
+    #[error(transparent)]
+    Hyperfoam(#[from] crate::homogenize::hyperfoam::HyperfoamError),
+    /// a file or folder could not be read or removed
+    #[error("{}: {error}", path.display())]
+    Io {
+        /// the file or folder
+        path: PathBuf,
+        /// why
+        error: std::io::Error,
+    },
+    /// the FE converged no increment
+    #[error("no increment converged")]
+    NoIncrement,
+    /// the FE stopped short of the depth asked for
+    #[error("stopped at δ = {depth:.3} nm")]
+    Stopped {
+        /// the last converged depth, nm
+        depth: f64,
+    },
+    /// the FE never reached the pull-off
+    #[error("no pull-off reached")]
+    NoPullOff,
+    /// a chain scene's run failed at a stage
+    #[error("{file}: {failure}")]
+    Chain {
+        /// the scene's name
+        file: String,
+        /// the stage's failure, as reported
+        failure: String,
+    },
+    /// a chain run has no record of a stage
+    #[error("no {stage:?} stage in {}", dir.display())]
+    NoStage {
+        /// the stage
+        stage: crate::scene::Stage,
+        /// the run's folder
+        dir: PathBuf,
+    },
+    /// a stage record lacks a value
+    #[error("the {stage} stage reported no {name}")]
+    NoValue {
+        /// the stage
+        stage: crate::scene::Stage,
+        /// the value's name
+        name: String,
+    },
+    /// the discrete curve has no points
+    #[error("empty discrete curve")]
+    EmptyCurve,
+    /// a CSV file lacks a column
+    #[error("{}: no column {column}", path.display())]
+    NoColumn {
+        /// the file
+        path: PathBuf,
+        /// the column
+        column: String,
+    },
+    /// a CSV cell is not a number
+    #[error("{}: line {line}: not a number", path.display())]
+    NotANumber {
+        /// the file
+        path: PathBuf,
+        /// the line (1-based)
+        line: usize,
+    },
+    /// a bench scene's text is not TOML
+    #[error("{scene}: {message}")]
+    Toml {
+        /// the scene's name
+        scene: String,
+        /// the parser's message
+        message: String,
+    },
+    /// a derived scene could not be written as TOML
+    #[error(transparent)]
+    TomlWrite(#[from] toml::ser::Error),
+    /// a bench scene lacks a section or key
+    #[error("{scene}: no {what}")]
+    Missing {
+        /// the scene's name
+        scene: String,
+        /// the section or key, as written in the scene
+        what: &'static str,
+    },
+    /// a depth lies beyond a load–depth curve
+    #[error("δ = {depth} nm is beyond the curve (to {end:.1} nm)")]
+    BeyondCurve {
+        /// the depth asked for, nm
+        depth: f64,
+        /// the curve's deepest point, nm
+        end: f64,
+    },
+    /// an error with a note on the run it came from
+    #[error("{error}; {note}")]
+    Noted {
+        /// the error
+        error: Box<BenchError>,
+        /// the note
+        note: String,
+    },
+}
+
 /// The cost of one answer: wall time and the CPU time of the whole process over the same span
 /// (all threads; Linux `/proc/self/stat`, `None` elsewhere).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -81,7 +214,7 @@ impl Row {
     pub fn new(
         problem: &str,
         fidelity: &str,
-        answer: Result<f64, String>,
+        answer: Result<f64, BenchError>,
         reference: (f64, &str),
         cost: Cost,
         note: String,
@@ -282,7 +415,7 @@ fn tasks(opts: &BenchOptions) -> Vec<Task<'_>> {
 }
 
 /// A sweep whose reference could not be computed is reported as a failed sweep.
-fn push_sweep(r: &mut BenchReport, s: Result<Sweep, String>) {
+fn push_sweep(r: &mut BenchReport, s: Result<Sweep, BenchError>) {
     match s {
         Ok(s) => r.sweeps.push(s),
         Err(e) => r.sweeps.push(Sweep {
@@ -292,7 +425,7 @@ fn push_sweep(r: &mut BenchReport, s: Result<Sweep, String>) {
             reference: 0.0,
             reference_source: String::new(),
             points: vec![],
-            failures: vec![e],
+            failures: vec![e.to_string()],
         }),
     }
 }
@@ -393,12 +526,12 @@ mod tests {
         let r = Row::new(
             "p",
             "f",
-            Err("diverged".into()),
+            Err(BenchError::NoPullOff),
             (2.0, "x"),
             cost,
             "".into(),
         );
-        assert!(r.answer.is_none() && r.rel_error.is_none() && r.note.contains("diverged"));
+        assert!(r.answer.is_none() && r.rel_error.is_none() && r.note.contains("no pull-off"));
         let r = Row::new("p", "f", Ok(f64::NAN), (2.0, "x"), cost, "".into());
         assert!(r.answer.is_none() && r.note.contains("non-finite"));
         let no_reference = Row::new("p", "f", Ok(1.0), (f64::NAN, "none"), cost, "".into());

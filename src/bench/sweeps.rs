@@ -12,7 +12,7 @@
 //!
 //! The runs the ladder shares with them (the FE Hertz load, the cantilever deflection) live here.
 
-use super::{timed, Sweep, SweepPoint};
+use super::{timed, BenchError, Sweep, SweepPoint};
 use crate::continuum::element::Kinematics;
 use crate::continuum::material::viscoelastic::PronyTerm;
 use crate::continuum::{run_indent, IndentParams, Segment};
@@ -29,7 +29,7 @@ fn sweep(
     setting: &str,
     reference: (f64, &str),
     settings: &[f64],
-    f: impl Fn(f64) -> Result<(f64, Option<usize>), String>,
+    f: impl Fn(f64) -> Result<(f64, Option<usize>), BenchError>,
 ) -> Sweep {
     let mut points = Vec::new();
     let mut failures = Vec::new();
@@ -59,11 +59,9 @@ fn sweep(
 }
 
 /// The half-space pull-off at μ = 1 on trace grids of increasing density.
-pub fn halfspace_grid(quick: bool) -> Result<Sweep, String> {
-    let problem = Problem::scaled(1.0, LjKind::Lj93).map_err(|e| e.to_string())?;
-    let reference = pull_off(&problem, &HalfspaceParams::default())
-        .map_err(|e| e.to_string())?
-        .extrapolated;
+pub fn halfspace_grid(quick: bool) -> Result<Sweep, BenchError> {
+    let problem = Problem::scaled(1.0, LjKind::Lj93)?;
+    let reference = pull_off(&problem, &HalfspaceParams::default())?.extrapolated;
     let settings: &[f64] = if quick {
         &[3.0, 6.0, 12.0]
     } else {
@@ -80,9 +78,7 @@ pub fn halfspace_grid(quick: bool) -> Result<Sweep, String> {
                 cells_per_zone: cells,
                 ..HalfspaceParams::default()
             };
-            trace_curve(&problem, &params)
-                .map(|c| (c.pull_off.load, Some(c.nodes)))
-                .map_err(|e| e.to_string())
+            Ok(trace_curve(&problem, &params).map(|c| (c.pull_off.load, Some(c.nodes)))?)
         },
     ))
 }
@@ -100,17 +96,19 @@ pub fn hertz_load(
     prony: Vec<PronyTerm>,
     depth: f64,
     rate: f64,
-) -> Result<(f64, usize), String> {
+) -> Result<(f64, usize), BenchError> {
     let mut p = IndentParams::hertz_example();
     p.kinematics = kinematics;
     p.mesh.elements_per_radius = per_radius;
     p.material.prony = prony;
     p.schedule = vec![Segment::Load { to: depth, rate }];
     p.solver.increments = increments;
-    let r = run_indent(&p, &mut |_| {}).map_err(|e| e.to_string())?;
-    let last = r.rows.last().ok_or("no increment converged")?;
+    let r = run_indent(&p, &mut |_| {})?;
+    let last = r.rows.last().ok_or(BenchError::NoIncrement)?;
     if (last.depth_nm - depth).abs() > 1e-9 {
-        return Err(format!("stopped at δ = {:.3} nm", last.depth_nm));
+        return Err(BenchError::Stopped {
+            depth: last.depth_nm,
+        });
     }
     Ok((last.load_nN, r.mesh_report.elements))
 }
@@ -150,7 +148,7 @@ pub fn lee_radok_ratio(g: f64, t_over_tau: f64) -> f64 {
 
 /// The FE load of a relaxing solid during a ramp, relative to the elastic load on the same
 /// mesh, as the increments of the ramp grow.
-pub fn fe_time_step(quick: bool) -> Result<Sweep, String> {
+pub fn fe_time_step(quick: bool) -> Result<Sweep, BenchError> {
     let (g, tau, depth, rate) = (0.5, 1.0, 10.0, 10.0);
     let per_radius = 10.0;
     let (elastic, _) = hertz_load(Kinematics::Small, per_radius, 5, vec![], depth, rate)?;
@@ -200,20 +198,17 @@ pub fn rod_segments(quick: bool) -> Sweep {
 
 /// Tip deflection δ_v/L of a clamped tube of `segments` segments at PL²/K = 2, reached by load
 /// continuation through PL²/K = 1, with the Newton iterations taken.
-pub fn cantilever_deflection(segments: usize) -> Result<(f64, usize), String> {
+pub fn cantilever_deflection(segments: usize) -> Result<(f64, usize), BenchError> {
     let length = 7000.0;
     let stiff = RodStiffness::turf_tube();
-    let mut problem =
-        RodProblem::cantilever(segments, length, stiff, [0.0; 3]).map_err(|e| e.to_string())?;
+    let mut problem = RodProblem::cantilever(segments, length, stiff, [0.0; 3])?;
     let tip = problem.tip();
     let mut iterations = 0;
     for alpha in [1.0, 2.0] {
         let p = alpha * stiff.bending / (length * length);
         problem.loads = crate::discrete::constraints::PointLoads::new();
         problem.loads.add(tip, [0.0, -p, 0.0]);
-        let info = problem
-            .solve_newton(&NewtonParams::default())
-            .map_err(|e| e.to_string())?;
+        let info = problem.solve_newton(&NewtonParams::default())?;
         iterations += info.cost.iterations;
     }
     Ok((-problem.x[3 * tip + 1] / length, iterations))

@@ -9,11 +9,27 @@
 //! ([`crate::theory::process_zone`], PHYSICS.md; for a shifted law σ_peak is σ_max/b) with
 //! [`ZONE_ELEMENTS`] elements, unless the contact radius asks for finer ones.
 
-use super::damping::ContactDamping;
+use super::damping::{ContactDamping, DampingError};
 use super::indenter::Indenter;
 use crate::laws::SurfaceLaw;
 use crate::theory::{hertz, jkr, process_zone, tabor, Sphere, TheoryError};
 use serde::{Deserialize, Serialize};
+
+/// Why adhesion parameters are unusable.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum AdhesionError {
+    /// the law's γ or z₀ is not positive and finite
+    #[error("adhesion needs γ > 0 and z0 > 0, got γ = {gamma} J/m², z0 = {z0} nm")]
+    Law {
+        /// γ, J/m²
+        gamma: f64,
+        /// z₀, nm
+        z0: f64,
+    },
+    /// the contact damping is unusable
+    #[error(transparent)]
+    Damping(#[from] DampingError),
+}
 
 /// Elements across the process zone E\*γ/σ_peak² (PHYSICS.md: ≥ 10).
 pub const ZONE_ELEMENTS: f64 = 10.0;
@@ -30,15 +46,13 @@ pub struct AdhesionParams {
 
 impl AdhesionParams {
     /// Check the law's constants and the damping.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), AdhesionError> {
         let (g, z0) = (self.law.gamma(), self.law.z0());
         if !(g > 0.0 && g.is_finite() && z0 > 0.0 && z0.is_finite()) {
-            return Err(format!(
-                "adhesion needs γ > 0 and z0 > 0, got γ = {g} J/m², z0 = {z0} nm"
-            ));
+            return Err(AdhesionError::Law { gamma: g, z0 });
         }
         match &self.damping {
-            Some(d) => d.validate(z0),
+            Some(d) => Ok(d.validate(z0)?),
             None => Ok(()),
         }
     }

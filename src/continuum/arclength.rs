@@ -31,7 +31,75 @@ use super::element::Kinematics;
 use super::indent::{snapshot, IndentParams, IndentResult, Progress, Row, Segment};
 use super::machine::Machine;
 use super::newton::NewtonParams;
+use super::FeError;
 use crate::numerics::newton::{self, norm, NewtonError, NewtonProblem, Trial};
+
+/// Why the arc-length corrector or the curve's trace stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum ArcLengthError {
+    /// the model could not be evaluated, solved or recorded
+    #[error(transparent)]
+    Fe(#[from] FeError),
+    /// the corrector was asked for its point before evaluating one (a bug)
+    #[error("arc-length corrector: no point")]
+    NoPoint,
+    /// the bordered system is singular: the constraint is tangent to the curve
+    #[error("arc-length corrector: the constraint is tangent to the curve (t_δ − t_u·K⁻¹g = {schur:.3e})")]
+    Tangent {
+        /// the Schur complement t_δ − t_u·K⁻¹g
+        schur: f64,
+    },
+    /// the corrector reached its iteration limit
+    #[error(
+        "arc-length corrector: no convergence in {iterations} iterations (residuals {residuals:?})"
+    )]
+    NoConvergence {
+        /// iterations done
+        iterations: usize,
+        /// residual history, nN
+        residuals: Vec<f64>,
+    },
+    /// the corrector's Newton loop failed otherwise (its line search)
+    #[error("{0}")]
+    Newton(Box<NewtonError<ArcLengthError>>),
+    /// the controlled variable does not change along the curve at a segment's start
+    #[error("segment {segment} ({seg:?}): the controlled variable does not change along the curve at its start (no contact under load control?)")]
+    Stationary {
+        /// the segment's index
+        segment: usize,
+        /// the segment
+        seg: Segment,
+    },
+    /// a segment took more steps than allowed without reaching its target
+    #[error("segment {segment} ({seg:?}): {steps} arc-length steps without reaching the target")]
+    TooManySteps {
+        /// the segment's index
+        segment: usize,
+        /// the segment
+        seg: Segment,
+        /// the step limit
+        steps: usize,
+    },
+    /// a step failed at the smallest length the cutbacks allow
+    #[error("segment {segment} ({seg:?}): arc-length step {length:.3e} failed after {cutbacks} halvings at δ = {depth:.6} nm: {reason}")]
+    Cutbacks {
+        /// the segment's index
+        segment: usize,
+        /// the segment
+        seg: Segment,
+        /// the failed step's length
+        length: f64,
+        /// halvings done
+        cutbacks: usize,
+        /// the indenter depth where the step started, nm
+        depth: f64,
+        /// why the last step failed
+        reason: Box<ArcLengthError>,
+    },
+    /// a signal asked the run to stop
+    #[error("{}", crate::interrupt::REASON)]
+    Interrupted,
+}
 
 /// The variable a schedule segment prescribes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -158,22 +226,24 @@ pub struct Curve<'a> {
 }
 
 impl Curve<'_> {
-    fn evaluate(&mut self, y: &[f64], tangent: bool) -> Result<Evaluation, String> {
+    fn evaluate(&mut self, y: &[f64], tangent: bool) -> Result<Evaluation, FeError> {
         let n = self.solid.dofs();
-        self.asm
-            .evaluate(
-                self.solid,
-                Some(self.contact),
-                (&y[..n], &[]),
-                0.0,
-                y[n],
-                tangent,
-            )
-            .map_err(|e| e.to_string())
+        self.asm.evaluate(
+            self.solid,
+            Some(self.contact),
+            (&y[..n], &[]),
+            0.0,
+            y[n],
+            tangent,
+        )
     }
 
     /// Newton on r(u, δ) = 0 with one constraint, from `y`.
-    fn correct(&mut self, mut y: Vec<f64>, constraint: &Constraint) -> Result<Point, String> {
+    fn correct(
+        &mut self,
+        mut y: Vec<f64>,
+        constraint: &Constraint,
+    ) -> Result<Point, ArcLengthError> {
         let newton = NewtonParams {
             max_backtracks: 0,
             ..self.newton
@@ -191,7 +261,7 @@ impl Curve<'_> {
         };
         match newton::solve(&mut corrector, &mut y, &newton) {
             Ok(info) => {
-                let (ev, _) = corrector.at.ok_or("arc-length corrector: no point")?;
+                let (ev, _) = corrector.at.ok_or(ArcLengthError::NoPoint)?;
                 Ok(Point {
                     y,
                     ev,
@@ -202,10 +272,12 @@ impl Curve<'_> {
             Err(NewtonError::NoConvergence {
                 iterations,
                 residuals,
-            }) => Err(format!(
-                "arc-length corrector: no convergence in {iterations} iterations (residuals {residuals:?})"
-            )),
-            Err(e) => Err(e.to_string()),
+            }) => Err(ArcLengthError::NoConvergence {
+                iterations,
+                residuals,
+            }),
+            Err(NewtonError::Problem(e)) => Err(e),
+            Err(e) => Err(ArcLengthError::Newton(Box::new(e))),
         }
     }
 
@@ -218,7 +290,7 @@ impl Curve<'_> {
         control: Control,
         target: f64,
         dir: f64,
-    ) -> Result<(Point, bool), String> {
+    ) -> Result<(Point, bool), ArcLengthError> {
         let n = self.solid.dofs();
         let v = control.value(pt.y[n], pt.ev.load);
         let v_next = control.value(next.y[n], next.ev.load);
@@ -236,12 +308,17 @@ impl Curve<'_> {
     }
 
     /// The equilibrium at fixed control from the guess `y` (a segment's end, or the start).
-    pub fn at(&mut self, y: Vec<f64>, control: Control, value: f64) -> Result<Point, String> {
+    pub fn at(
+        &mut self,
+        y: Vec<f64>,
+        control: Control,
+        value: f64,
+    ) -> Result<Point, ArcLengthError> {
         self.correct(y, &Constraint::Target { control, value })
     }
 
     /// One step of length `dl` from `from` along its unit tangent `t`.
-    pub fn step(&mut self, from: &[f64], t: &[f64], dl: f64) -> Result<Point, String> {
+    pub fn step(&mut self, from: &[f64], t: &[f64], dl: f64) -> Result<Point, ArcLengthError> {
         let predicted: Vec<f64> = from.iter().zip(t).map(|(y, t)| y + dl * t).collect();
         self.correct(
             predicted.clone(),
@@ -276,9 +353,9 @@ struct Corrector<'c, 'a> {
 }
 
 impl NewtonProblem for Corrector<'_, '_> {
-    type Error = String;
+    type Error = ArcLengthError;
 
-    fn residual(&mut self, y: &[f64]) -> Result<f64, String> {
+    fn residual(&mut self, y: &[f64]) -> Result<f64, ArcLengthError> {
         let ev = self.curve.evaluate(y, true)?;
         let r = self.curve.asm.residual(&ev.gradient);
         let (c, _, _, force) = self.constraint.linearise(y, &ev);
@@ -300,31 +377,27 @@ impl NewtonProblem for Corrector<'_, '_> {
         residuals.len() > 1 && done
     }
 
-    fn direction(&mut self, y: &[f64]) -> Result<Vec<f64>, String> {
+    fn direction(&mut self, y: &[f64]) -> Result<Vec<f64>, ArcLengthError> {
         let contracting = self
             .previous
             .is_some_and(|p| self.norm <= self.curve.contraction * p);
         self.fresh = !(contracting && self.factored);
-        let (ev, r) = self.at.as_ref().ok_or("arc-length corrector: no point")?;
+        let (ev, r) = self.at.as_ref().ok_or(ArcLengthError::NoPoint)?;
         let asm = &mut self.curve.asm;
         if self.fresh {
-            asm.factor(&ev.values).map_err(|e| e.to_string())?;
+            asm.factor(&ev.values)?;
             self.factored = true;
         }
         let minus_r: Vec<f64> = r.iter().map(|v| -v).collect();
-        let a = asm.back_solve(&minus_r).map_err(|e| e.to_string())?;
-        let b = asm
-            .back_solve(&ev.load_gradient)
-            .map_err(|e| e.to_string())?;
+        let a = asm.back_solve(&minus_r)?;
+        let b = asm.back_solve(&ev.load_gradient)?;
         let (c, c_u, c_d, _) = self.constraint.linearise(y, ev);
         let (ca, cb) = c_u.map_or((0.0, 0.0), |cu| (dot(cu, &a), dot(cu, &b)));
         let schur = c_d - cb;
         // the bordered matrix is regular on a smooth curve (its tangent is unique); a
         // vanishing Schur complement means the constraint is tangent to the curve
         if !(schur.abs() > 1e-12 * (c_d.abs() + cb.abs())) {
-            return Err(format!(
-                "arc-length corrector: the constraint is tangent to the curve (t_δ − t_u·K⁻¹g = {schur:.3e})"
-            ));
+            return Err(ArcLengthError::Tangent { schur });
         }
         let d_delta = (-c - ca) / schur;
         let mut dy: Vec<f64> = a.iter().zip(&b).map(|(a, b)| a - b * d_delta).collect();
@@ -333,7 +406,7 @@ impl NewtonProblem for Corrector<'_, '_> {
         Ok(dy)
     }
 
-    fn try_step(&mut self, y: &mut [f64], dy: &[f64], s: f64) -> Result<Trial, String> {
+    fn try_step(&mut self, y: &mut [f64], dy: &[f64], s: f64) -> Result<Trial, ArcLengthError> {
         for (yi, di) in y.iter_mut().zip(dy) {
             *yi += s * di;
         }
@@ -400,7 +473,7 @@ impl Curve<'_> {
         y: Vec<f64>,
         result: &mut IndentResult,
         progress: &mut dyn FnMut(&Progress),
-    ) -> Result<(), String> {
+    ) -> Result<(), ArcLengthError> {
         let n = self.solid.dofs();
         let small = p.kinematics == Kinematics::Small;
         let mut pt = self.at(y, Control::Depth, p.start)?;
@@ -420,19 +493,21 @@ impl Curve<'_> {
             let mut t = pt.tangent(|t| dir * control.rate(t, &pt.ev));
             let mut length = dl.unwrap_or(dv_max / control.rate(&t, &pt.ev).abs());
             if !(length.is_finite() && length > 0.0) {
-                return Err(format!(
-                    "segment {si} ({seg:?}): the controlled variable does not change along the curve at its start (no contact under load control?)"
-                ));
+                return Err(ArcLengthError::Stationary {
+                    segment: si,
+                    seg: *seg,
+                });
             }
             let mut advancing = true;
             let (mut cutbacks, mut steps) = (0, 0);
             loop {
                 steps += 1;
                 if steps > p.solver.arclength.max_steps {
-                    return Err(format!(
-                        "segment {si} ({seg:?}): {} arc-length steps without reaching the target",
-                        p.solver.arclength.max_steps
-                    ));
+                    return Err(ArcLengthError::TooManySteps {
+                        segment: si,
+                        seg: *seg,
+                        steps: p.solver.arclength.max_steps,
+                    });
                 }
                 // no step advances the control by more than the largest increment
                 let speed = control.rate(&t, &pt.ev).abs();
@@ -448,10 +523,14 @@ impl Curve<'_> {
                         result.stats.cutbacks += 1;
                         length = 0.5 * l;
                         if cutbacks > p.solver.max_cutbacks {
-                            return Err(format!(
-                                "segment {si} ({seg:?}): arc-length step {l:.3e} failed after {cutbacks} halvings at δ = {:.6} nm: {e}",
-                                pt.y[n]
-                            ));
+                            return Err(ArcLengthError::Cutbacks {
+                                segment: si,
+                                seg: *seg,
+                                length: l,
+                                cutbacks,
+                                depth: pt.y[n],
+                                reason: Box::new(e),
+                            });
                         }
                         continue;
                     }
@@ -472,7 +551,7 @@ impl Curve<'_> {
                     elements: self.solid.elements.len(),
                 });
                 if crate::interrupt::requested() {
-                    return Err(crate::interrupt::REASON.into());
+                    return Err(ArcLengthError::Interrupted);
                 }
                 let secant: Vec<f64> = next.y.iter().zip(&pt.y).map(|(a, b)| a - b).collect();
                 t = next.tangent(|t| dot(t, &secant));
@@ -488,10 +567,9 @@ impl Curve<'_> {
                     // the load passed its minimum: under load control the indenter separates
                     let last = &result.rows[result.rows.len() - 2..];
                     result.separated_nN = Some(last[0].load_nN.min(last[1].load_nN));
-                    result.snapshots.push(
-                        snapshot(si, time, &pt.y, self.solid, &[], None)
-                            .map_err(|e| e.to_string())?,
-                    );
+                    result
+                        .snapshots
+                        .push(snapshot(si, time, &pt.y, self.solid, &[], None)?);
                     return Ok(());
                 }
                 advancing = now_advancing;
@@ -499,7 +577,7 @@ impl Curve<'_> {
             dl = Some(length);
             result
                 .snapshots
-                .push(snapshot(si, time, &pt.y, self.solid, &[], None).map_err(|e| e.to_string())?);
+                .push(snapshot(si, time, &pt.y, self.solid, &[], None)?);
         }
         Ok(())
     }

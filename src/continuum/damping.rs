@@ -10,6 +10,31 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Why contact-damping parameters are unusable.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DampingError {
+    /// c₀ is not positive and finite
+    #[error("damping c0 must be positive, got {c0}")]
+    Coefficient {
+        /// c₀, GPa·s/nm
+        c0: f64,
+    },
+    /// g′ does not exceed the law's equilibrium gap z₀
+    #[error("damping gap g′ = {gap} nm must exceed z0 = {z0} nm")]
+    Gap {
+        /// g′, nm
+        gap: f64,
+        /// the law's z₀, nm
+        z0: f64,
+    },
+    /// η is outside [0, 1)
+    #[error("damping eta must lie in [0, 1), got {eta}")]
+    Eta {
+        /// η
+        eta: f64,
+    },
+}
+
 /// The damping coefficient c(g).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ContactDamping {
@@ -36,18 +61,15 @@ impl ContactDamping {
 
     /// Check the parameters against the law's equilibrium gap z₀ (g′ must exceed it, or the
     /// damping would not act where the surfaces meet).
-    pub fn validate(&self, z0: f64) -> Result<(), String> {
+    pub fn validate(&self, z0: f64) -> Result<(), DampingError> {
         if !(self.c0 > 0.0 && self.c0.is_finite()) {
-            return Err(format!("damping c0 must be positive, got {}", self.c0));
+            return Err(DampingError::Coefficient { c0: self.c0 });
         }
         if !(self.gap > z0 && self.gap.is_finite()) {
-            return Err(format!(
-                "damping gap g′ = {} nm must exceed z0 = {z0} nm",
-                self.gap
-            ));
+            return Err(DampingError::Gap { gap: self.gap, z0 });
         }
         if !(self.eta >= 0.0 && self.eta < 1.0) {
-            return Err(format!("damping eta must lie in [0, 1), got {}", self.eta));
+            return Err(DampingError::Eta { eta: self.eta });
         }
         Ok(())
     }

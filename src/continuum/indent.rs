@@ -517,12 +517,12 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
 /// Check what the sizes do not: the parts' own parameters and the combinations the solvers
 /// cannot run.
 fn validate(p: &IndentParams) -> Result<(), FeError> {
-    p.indenter.validate().map_err(FeError::Params)?;
+    p.indenter.validate()?;
     p.material.elastic.validate()?;
     validate_prony(&p.material.prony)?;
-    p.machine.validate().map_err(FeError::Params)?;
+    p.machine.validate()?;
     if let Some(a) = &p.adhesion {
-        a.validate().map_err(FeError::Params)?;
+        a.validate()?;
     }
     if p.solver.method == Method::Riks {
         if !p.material.prony.is_empty() {

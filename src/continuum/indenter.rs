@@ -18,6 +18,44 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Why an indenter is unusable, or a depth beyond what it represents.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IndenterError {
+    /// the radius is not positive and finite
+    #[error("indenter radius must be positive, got {radius} nm")]
+    Radius {
+        /// the radius, nm
+        radius: f64,
+    },
+    /// the cone half-angle is outside (0, 90) degrees
+    #[error("cone half-angle must lie in (0, 90) degrees, got {half_angle_deg}")]
+    HalfAngle {
+        /// the half-angle, degrees
+        half_angle_deg: f64,
+    },
+    /// the sphere–cone junction would not be convex
+    #[error("tip_depth must lie in (0, R(1 − sin θ)] = (0, {h_max:.4}] nm for a convex tip, got {tip_depth} nm")]
+    TipDepth {
+        /// the tip depth asked for, nm
+        tip_depth: f64,
+        /// the largest convex tip depth R(1 − sin θ), nm
+        h_max: f64,
+    },
+    /// the depth is not below the sphere's radius, the deepest the sphere represents
+    #[error(
+        "indenter depth {depth:.6e} nm is not below the sphere radius {radius} nm, the \
+         deepest the sphere (no shank) represents; with a soft machine spring or load \
+         control nothing holds the indenter before contact: use smaller increments or \
+         approach first"
+    )]
+    TooDeep {
+        /// the indenter depth, nm
+        depth: f64,
+        /// the sphere's radius, nm
+        radius: f64,
+    },
+}
+
 /// Half-angle of the cone equivalent to a Berkovich pyramid, degrees.
 pub const BERKOVICH_CONE_HALF_ANGLE_DEG: f64 = 70.3;
 
@@ -96,10 +134,10 @@ impl Indenter {
     }
 
     /// Check the dimensions (and convexity of the sphere–cone junction).
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), IndenterError> {
         let r = self.radius();
         if !(r > 0.0 && r.is_finite()) {
-            return Err(format!("indenter radius must be positive, got {r} nm"));
+            return Err(IndenterError::Radius { radius: r });
         }
         if let Indenter::BerkovichBlunt {
             tip_depth,
@@ -108,15 +146,11 @@ impl Indenter {
         } = *self
         {
             if !(half_angle_deg > 0.0 && half_angle_deg < 90.0) {
-                return Err(format!(
-                    "cone half-angle must lie in (0, 90) degrees, got {half_angle_deg}"
-                ));
+                return Err(IndenterError::HalfAngle { half_angle_deg });
             }
             let h_max = r * (1.0 - half_angle_deg.to_radians().sin());
             if !(tip_depth > 0.0 && tip_depth <= h_max * (1.0 + 1e-9)) {
-                return Err(format!(
-                    "tip_depth must lie in (0, R(1 − sin θ)] = (0, {h_max:.4}] nm for a convex tip, got {tip_depth} nm"
-                ));
+                return Err(IndenterError::TipDepth { tip_depth, h_max });
             }
         }
         Ok(())
@@ -127,14 +161,11 @@ impl Indenter {
     /// would lie above it, out of contact: a false equilibrium). A Newton iterate gets there
     /// when nothing holds the indenter before contact (a soft spring, K ≪ the contact
     /// stiffness, driven far in one increment); the driver then cuts the increment back.
-    pub fn check_depth(&self, depth: f64) -> Result<(), String> {
+    pub fn check_depth(&self, depth: f64) -> Result<(), IndenterError> {
         match *self {
-            Indenter::Sphere { radius } if !(depth < radius) => Err(format!(
-                "indenter depth {depth:.6e} nm is not below the sphere radius {radius} nm, the \
-                 deepest the sphere (no shank) represents; with a soft machine spring or load \
-                 control nothing holds the indenter before contact: use smaller increments or \
-                 approach first"
-            )),
+            Indenter::Sphere { radius } if !(depth < radius) => {
+                Err(IndenterError::TooDeep { depth, radius })
+            }
             _ => Ok(()),
         }
     }

@@ -27,6 +27,25 @@ use super::newton::{NewtonSystem, Point};
 use super::FeError;
 use serde::{Deserialize, Serialize};
 
+/// Why the testing machine's springs are unusable.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MachineError {
+    /// the machine spring is not positive and finite
+    #[error("machine spring stiffness must be positive and finite, got {stiffness} nN/nm")]
+    Stiffness {
+        /// K, nN/nm
+        stiffness: f64,
+    },
+    /// the transducer's springs are out of range
+    #[error("load-frame springs: k1 must be finite and ≥ 0, k2 positive (may be infinite), got k1 = {k1}, k2 = {k2} nN/nm")]
+    LoadFrame {
+        /// k₁, nN/nm
+        k1: f64,
+        /// k₂, nN/nm
+        k2: f64,
+    },
+}
+
 /// How the indenter is driven.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "control", rename_all = "lowercase")]
@@ -55,17 +74,13 @@ pub enum Machine {
 
 impl Machine {
     /// Check the spring stiffness.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), MachineError> {
         match *self {
             Machine::Spring { stiffness } if !(stiffness > 0.0 && stiffness.is_finite()) => {
-                Err(format!(
-                    "machine spring stiffness must be positive and finite, got {stiffness} nN/nm"
-                ))
+                Err(MachineError::Stiffness { stiffness })
             }
             Machine::LoadFrame { k1, k2 } if !(k1 >= 0.0 && k1.is_finite() && k2 > 0.0) => {
-                Err(format!(
-                    "load-frame springs: k1 must be finite and ≥ 0, k2 positive (may be infinite), got k1 = {k1}, k2 = {k2} nN/nm"
-                ))
+                Err(MachineError::LoadFrame { k1, k2 })
             }
             _ => Ok(()),
         }
@@ -231,8 +246,8 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 impl NewtonSystem for Driven<'_> {
-    fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, String> {
-        let ev = self.evaluation(x, tangent).map_err(|e| e.to_string())?;
+    fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, FeError> {
+        let ev = self.evaluation(x, tangent)?;
         let delta = self.depth(x);
         let (r_delta, k_delta, spring_force) = match self.drive {
             Drive::Depth(_) => (0.0, 1.0, 0.0),
@@ -257,26 +272,24 @@ impl NewtonSystem for Driven<'_> {
         })
     }
 
-    fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, String> {
+    fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, FeError> {
         let n = self.solid.dofs();
         let m = values.len() - n - 1;
         let (k_uu, border, k_dd) = (&values[..m], &values[m..m + n], values[m + n]);
-        self.asm.factor(k_uu).map_err(|e| e.to_string())?;
-        let mut a = self.asm.back_solve(&rhs[..n]).map_err(|e| e.to_string())?;
+        self.asm.factor(k_uu)?;
+        let mut a = self.asm.back_solve(&rhs[..n])?;
         if let Drive::Depth(_) = self.drive {
             a.push(0.0);
             return Ok(a);
         }
         // the second solve reuses the factorisation of K_uu
-        let b = self.asm.back_solve(border).map_err(|e| e.to_string())?;
+        let b = self.asm.back_solve(border)?;
         let schur = k_dd - dot(border, &b);
         let scale = k_dd.abs().max(dot(border, border).sqrt());
         // a vanishing Schur complement is a limit point of the load (or no contact yet
         // under load control): no increment of δ balances the residual
         if !(schur.abs() > 1e-12 * scale) || !schur.is_finite() {
-            return Err(format!(
-                "bordered solve: the indenter's effective stiffness k − gᵀK⁻¹g = {schur:.3e} nN/nm vanishes (a load limit point, or no contact under load control)"
-            ));
+            return Err(FeError::LimitPoint { schur });
         }
         let d_delta = (rhs[n] - dot(border, &a)) / schur;
         for (ai, bi) in a.iter_mut().zip(&b) {

@@ -20,6 +20,7 @@ use super::indent::{
     band_span, build_mesh, new_solid, resolve, snapshot, Adaptation, IndentParams, IndentResult,
     Method, Progress, Resolved, Row, RunStats, Segment, EDGE_SAFE, MAX_REMESHES_PER_INCREMENT,
 };
+use super::indenter::IndenterError;
 use super::machine::{Drive, Driven, Machine};
 use super::mesh::{self, EdgeZone, Mesh};
 use super::newton;
@@ -121,7 +122,18 @@ enum Increment {
     /// mesh
     Remesh,
     /// no equilibrium (why)
-    Failed(String),
+    Failed(StepFailure),
+}
+
+/// Why an increment found no equilibrium.
+#[derive(Debug, thiserror::Error)]
+enum StepFailure {
+    /// Newton did not converge
+    #[error(transparent)]
+    Newton(#[from] newton::NewtonError),
+    /// Newton converged to a depth the indenter does not represent
+    #[error(transparent)]
+    Depth(#[from] IndenterError),
 }
 
 impl<'a> March<'a> {
@@ -237,6 +249,7 @@ impl<'a> March<'a> {
         curve
             .trace(self.p, self.u.clone(), &mut self.result, progress)
             .err()
+            .map(|e| e.to_string())
     }
 
     /// March through the schedule, a snapshot at the end of each segment; the reason the run
@@ -392,8 +405,8 @@ impl<'a> March<'a> {
             force_floor: self.force_floor,
         };
         let solved = newton::solve(&mut sys, &mut x, &p.solver.newton)
-            .map_err(|e| e.to_string())
-            .and_then(|info| p.indenter.check_depth(x[ndof]).map(|()| info));
+            .map_err(StepFailure::from)
+            .and_then(|info| Ok(p.indenter.check_depth(x[ndof]).map(|()| info)?));
         let info = match solved {
             Ok(info) => info,
             Err(e) => return Ok(Increment::Failed(e)),

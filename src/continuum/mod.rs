@@ -76,4 +76,23 @@ pub enum FeError {
     /// results could not be written
     #[error(transparent)]
     Report(#[from] crate::report::ReportError),
+    /// the indenter's dimensions are unusable
+    #[error("continuum parameters: {0}")]
+    Indenter(#[from] indenter::IndenterError),
+    /// the testing machine's springs are unusable
+    #[error("continuum parameters: {0}")]
+    Machine(#[from] machine::MachineError),
+    /// the adhesion law or its damping is unusable
+    #[error("continuum parameters: {0}")]
+    Adhesion(#[from] adhesion::AdhesionError),
+    /// the bordered solve of (u, δ) met a vanishing Schur complement: a limit point of the
+    /// load, or no contact under load control
+    #[error("bordered solve: the indenter's effective stiffness k − gᵀK⁻¹g = {schur:.3e} nN/nm vanishes (a load limit point, or no contact under load control)")]
+    LimitPoint {
+        /// the Schur complement k − gᵀK⁻¹g, nN/nm
+        schur: f64,
+    },
+    /// Newton asked for the iterate's point before evaluating it (a bug)
+    #[error("Newton: no point evaluated")]
+    NoPoint,
 }

@@ -10,11 +10,12 @@
 //! back. The iteration is [`crate::numerics::newton::solve`]; this module holds the continuum's
 //! plug-ins to it.
 
+use super::FeError;
 use crate::numerics::newton::{self as driver, armijo, norm, NewtonProblem, Trial};
 pub use crate::numerics::newton::{NewtonInfo, NewtonParams};
 
-/// Why Newton failed: the problem's failures are messages.
-pub type NewtonError = driver::NewtonError<String>;
+/// Why Newton failed: the problem's failures are the continuum's errors.
+pub type NewtonError = driver::NewtonError<FeError>;
 
 /// A point of the problem: energy, gradient (zero on constrained entries), reference force
 /// and, if asked for, the tangent's values.
@@ -33,9 +34,9 @@ pub struct Point {
 /// What Newton needs from a problem.
 pub trait NewtonSystem {
     /// Energy, residual and (if `tangent`) the tangent at `x`.
-    fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, String>;
+    fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, FeError>;
     /// Solve K d = rhs with K given by `values`.
-    fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, String>;
+    fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, FeError>;
 }
 
 /// The continuum's plug-ins to the Newton loop: the L2 norm of ∇Π against the reference force,
@@ -51,17 +52,15 @@ struct Potential<'a> {
 }
 
 impl Potential<'_> {
-    fn point(&self) -> Result<&Point, String> {
-        self.point
-            .as_ref()
-            .ok_or_else(|| "Newton: no point evaluated".to_string())
+    fn point(&self) -> Result<&Point, FeError> {
+        self.point.as_ref().ok_or(FeError::NoPoint)
     }
 }
 
 impl NewtonProblem for Potential<'_> {
-    type Error = String;
+    type Error = FeError;
 
-    fn residual(&mut self, x: &[f64]) -> Result<f64, String> {
+    fn residual(&mut self, x: &[f64]) -> Result<f64, FeError> {
         if self.point.is_none() {
             self.point = Some(self.sys.evaluate(x, true)?);
         }
@@ -74,19 +73,19 @@ impl NewtonProblem for Potential<'_> {
             .is_some_and(|pt| self.params.converged(residuals, pt.reference))
     }
 
-    fn direction(&mut self, _x: &[f64]) -> Result<Vec<f64>, String> {
-        let pt = self.point.as_ref().ok_or("Newton: no point evaluated")?;
+    fn direction(&mut self, _x: &[f64]) -> Result<Vec<f64>, FeError> {
+        let pt = self.point.as_ref().ok_or(FeError::NoPoint)?;
         let rhs: Vec<f64> = pt.residual.iter().map(|r| -r).collect();
         self.sys.solve(&pt.values, &rhs)
     }
 
-    fn try_step(&mut self, x: &mut [f64], dx: &[f64], s: f64) -> Result<Trial, String> {
+    fn try_step(&mut self, x: &mut [f64], dx: &[f64], s: f64) -> Result<Trial, FeError> {
         for ((t, xi), di) in self.trial.iter_mut().zip(x.iter()).zip(dx) {
             *t = xi + s * di;
         }
         let next = match self.sys.evaluate(&self.trial, true) {
             Ok(next) => next,
-            Err(e) => return Ok(Trial::Rejected(e)),
+            Err(e) => return Ok(Trial::Rejected(e.to_string())),
         };
         let pt = self.point()?;
         let slope: f64 = pt.residual.iter().zip(dx).map(|(r, d)| r * d).sum();
@@ -139,7 +138,7 @@ mod tests {
     }
 
     impl NewtonSystem for Quartic {
-        fn evaluate(&mut self, x: &[f64], _tangent: bool) -> Result<Point, String> {
+        fn evaluate(&mut self, x: &[f64], _tangent: bool) -> Result<Point, FeError> {
             Ok(Point {
                 energy: x
                     .iter()
@@ -155,7 +154,7 @@ mod tests {
                 values: x.iter().map(|x| 3.0 * x * x + 1.0).collect(),
             })
         }
-        fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, String> {
+        fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, FeError> {
             Ok(rhs.iter().zip(values).map(|(r, k)| r / k).collect())
         }
     }

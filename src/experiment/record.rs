@@ -203,7 +203,8 @@ impl Source<'_> {
             Format::Csv => ',',
             Format::NanoindenterText => '\t',
         };
-        crate::report::csv::split_fields(line, sep).map_err(|e| self.err(Some(n), None, e))
+        crate::report::csv::split_fields(line, sep)
+            .map_err(|e| self.err(Some(n), None, e.to_string()))
     }
 }
 

@@ -14,9 +14,9 @@
 //!
 //! Works per unit volume are in GPa (= GJ/m³).
 
-use super::curve::StressStrainCurve;
+use super::curve::{CurveError, StressStrainCurve};
 use super::quality;
-use super::tangent_law::{fit_tangent_law, TangentFitParams, TangentLawFit};
+use super::tangent_law::{fit_tangent_law, TangentFitParams, TangentLawError, TangentLawFit};
 
 /// One branch of the curve, strain ascending.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,7 +61,24 @@ pub struct CurveAnalysis {
     /// ∫σ dε on unloading, GPa
     pub unloading_work: Option<f64>,
     /// fit of (5.1) to the loading branch, or why it failed
-    pub fit: Result<TangentLawFit, String>,
+    pub fit: Result<TangentLawFit, FitFailure>,
+}
+
+/// Why (5.1) could not be fitted to the loading branch. Serialized as its message.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum FitFailure {
+    /// the loading branch is not a usable stress–strain curve
+    #[error(transparent)]
+    Curve(#[from] CurveError),
+    /// the fit itself failed
+    #[error(transparent)]
+    Fit(#[from] TangentLawError),
+}
+
+impl serde::Serialize for FitFailure {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
 }
 
 impl CurveAnalysis {
@@ -76,8 +93,8 @@ impl CurveAnalysis {
             None,
             "the discrete loading curve",
         )
-        .map_err(|e| e.to_string())
-        .and_then(|c| fit_tangent_law(&c, &TangentFitParams::default()).map_err(|e| e.to_string()));
+        .map_err(FitFailure::from)
+        .and_then(|c| Ok(fit_tangent_law(&c, &TangentFitParams::default())?));
         CurveAnalysis {
             loading,
             unloading,

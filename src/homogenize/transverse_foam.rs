@@ -194,11 +194,32 @@ impl TransverseFit {
     }
 }
 
+/// Why a `material_transverse.json` card is malformed; the message names the file and the field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CardJsonError {
+    /// a number field is missing or not a number
+    #[error("{src}: {key} is missing or not a number")]
+    Number {
+        /// the card's name
+        src: String,
+        /// the field
+        key: String,
+    },
+    /// a list of terms is missing or not a list
+    #[error("{src}: {key} is missing or not a list of terms")]
+    Terms {
+        /// the card's name
+        src: String,
+        /// the field
+        key: String,
+    },
+}
+
 /// The card of a `material_transverse.json` text ([`TransverseFit::card_json`]); `Ok(None)`
 /// when the text is another card (not JSON, e.g. a `.inp`, or no `"model":
 /// "transverse_foam"`: [`super::read_card`] reads those); an error naming `src` and the field
 /// when it is this card but malformed.
-pub fn read_card_json(text: &str, src: &str) -> Result<Option<TransverseFoam>, String> {
+pub fn parse_card_json(text: &str, src: &str) -> Result<Option<TransverseFoam>, CardJsonError> {
     let Ok(v) = serde_json::from_str::<serde_json::Value>(text) else {
         return Ok(None);
     };
@@ -208,13 +229,19 @@ pub fn read_card_json(text: &str, src: &str) -> Result<Option<TransverseFoam>, S
     let number = |x: &serde_json::Value, key: &str| {
         x.get(key)
             .and_then(serde_json::Value::as_f64)
-            .ok_or_else(|| format!("{src}: {key} is missing or not a number"))
+            .ok_or_else(|| CardJsonError::Number {
+                src: src.to_string(),
+                key: key.to_string(),
+            })
     };
-    let terms = |key: &str| -> Result<Hyperfoam, String> {
+    let terms = |key: &str| -> Result<Hyperfoam, CardJsonError> {
         let list = v
             .get(key)
             .and_then(serde_json::Value::as_array)
-            .ok_or_else(|| format!("{src}: {key} is missing or not a list of terms"))?;
+            .ok_or_else(|| CardJsonError::Terms {
+                src: src.to_string(),
+                key: key.to_string(),
+            })?;
         let terms = list
             .iter()
             .map(|t| {
@@ -224,7 +251,7 @@ pub fn read_card_json(text: &str, src: &str) -> Result<Option<TransverseFoam>, S
                     beta: 0.0,
                 })
             })
-            .collect::<Result<Vec<_>, String>>()?;
+            .collect::<Result<Vec<_>, CardJsonError>>()?;
         Ok(Hyperfoam { terms })
     };
     let card = TransverseFoam {
@@ -398,17 +425,17 @@ mod tests {
             "s.csv".to_string(),
         ];
         let text = fit.card_json(&sources).to_string();
-        assert_eq!(read_card_json(&text, "t.json").unwrap(), Some(m));
+        assert_eq!(parse_card_json(&text, "t.json").unwrap(), Some(m));
         assert_eq!(
-            read_card_json("*MATERIAL, NAME=TURF", "m.inp").unwrap(),
+            parse_card_json("*MATERIAL, NAME=TURF", "m.inp").unwrap(),
             None
         );
         assert_eq!(
-            read_card_json("{\"format\": \"turf-material-card\"}", "m.json").unwrap(),
+            parse_card_json("{\"format\": \"turf-material-card\"}", "m.json").unwrap(),
             None
         );
         let broken = text.replace("shear_mu_GPa", "shear");
-        let e = read_card_json(&broken, "t.json").unwrap_err();
+        let e = parse_card_json(&broken, "t.json").unwrap_err().to_string();
         assert!(e.contains("t.json") && e.contains("shear_mu_GPa"), "{e}");
     }
 }

@@ -389,8 +389,8 @@ fn transverse_card(path: &std::path::Path) -> Result<Option<Elastic>, StageError
     use crate::continuum::material::transverse_foam::{FibreTerm, TransverseFoam};
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| failed(format!("{name}: {e}")))?;
-    let Some(card) =
-        crate::homogenize::transverse_foam::read_card_json(&text, &name).map_err(failed)?
+    let Some(card) = crate::homogenize::transverse_foam::parse_card_json(&text, &name)
+        .map_err(|e| failed(e.to_string()))?
     else {
         return Ok(None);
     };
@@ -421,7 +421,10 @@ fn transverse_card(path: &std::path::Path) -> Result<Option<Elastic>, StageError
 
 /// The card this run's homogenize stage handed over, if it ran.
 fn fitted_card(ctx: &StageContext) -> Result<Option<MaterialCard>, StageError> {
-    match ctx.handed(Stage::Homogenize).map_err(failed)? {
+    match ctx
+        .handed(Stage::Homogenize)
+        .map_err(|e| failed(e.to_string()))?
+    {
         Some(Handoff::Card(card)) => Ok(Some(card)),
         _ => Ok(None),
     }

@@ -6,9 +6,9 @@
 //! disk.
 
 use super::{ensemble, StageRecord};
-use crate::homogenize::card::MaterialCard;
+use crate::homogenize::card::{CardError, MaterialCard};
 use crate::homogenize::curve_analysis::Branch;
-use crate::report::csv::{split_fields, strip_bom};
+use crate::report::csv::{split_fields, strip_bom, UnclosedQuote};
 use crate::scene::Stage;
 use std::path::{Path, PathBuf};
 
@@ -21,6 +21,64 @@ pub const UNLOADING_CSV: &str = "stress_strain_unloading.csv";
 pub const ENSEMBLE_LOADING_CSV: &str = "ensemble_stress_strain_loading.csv";
 /// The ensemble's mean unloading branch.
 pub const ENSEMBLE_UNLOADING_CSV: &str = "ensemble_stress_strain_unloading.csv";
+
+/// Why a cached stage's hand-over could not be read back from its cache entry.
+#[derive(Debug, thiserror::Error)]
+pub enum HandoffError {
+    /// a file of the entry could not be read
+    #[error("{path}: {cause}")]
+    Io {
+        /// the file
+        path: PathBuf,
+        /// the cause
+        cause: std::io::Error,
+    },
+    /// a branch file without the columns the discrete stage writes
+    #[error("{}: expected the columns strain, stress_GPa; found {found:?}", path.display())]
+    Columns {
+        /// the file
+        path: PathBuf,
+        /// the header found
+        found: Vec<String>,
+    },
+    /// a row that is not two numbers
+    #[error("{}: row {row}: not two numbers: {line}", path.display())]
+    Row {
+        /// the file
+        path: PathBuf,
+        /// the row (1 = the first after the header)
+        row: usize,
+        /// the row's text
+        line: String,
+    },
+    /// a row with an unclosed quote
+    #[error("{}: {cause}", path.display())]
+    Quote {
+        /// the file
+        path: PathBuf,
+        /// the cause
+        cause: UnclosedQuote,
+    },
+    /// the card could not be read
+    #[error(transparent)]
+    Card(#[from] CardError),
+}
+
+/// A cached stage's hand-over that could not be read back.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "the {stage} stage's cache entry {} could not be read back ({cause}); delete it to \
+     recompute the stage",
+    entry.display()
+)]
+pub struct CachedHandoffError {
+    /// the stage
+    pub stage: Stage,
+    /// the entry's folder
+    pub entry: PathBuf,
+    /// what went wrong
+    pub cause: HandoffError,
+}
 
 /// A branch of a compression curve and the file (relative to the output folder) that holds
 /// it for the user.
@@ -73,7 +131,7 @@ impl Handoff {
     /// What this hands over, a cached stage's read from its cache entry; `None` for a stage
     /// that hands nothing over (a discrete stage that compressed no turf: explicit rods,
     /// lateral or shear tests).
-    pub fn read(&self) -> Result<Option<Handoff>, String> {
+    pub fn read(&self) -> Result<Option<Handoff>, CachedHandoffError> {
         let Handoff::Cached { record, files } = self else {
             return Ok(Some(self.clone()));
         };
@@ -81,16 +139,13 @@ impl Handoff {
             Stage::Discrete => compression_in(record, files).map(|c| c.map(Handoff::Compression)),
             Stage::Homogenize => crate::homogenize::read_card(&files.join("material.json"))
                 .map(|c| Some(Handoff::Card(c)))
-                .map_err(|e| e.to_string()),
+                .map_err(HandoffError::from),
             Stage::Theory | Stage::Halfspace | Stage::Continuum => Ok(None),
         };
-        read.map_err(|e| {
-            format!(
-                "the {} stage's cache entry {} could not be read back ({e}); delete it to \
-                 recompute the stage",
-                record.stage,
-                files.parent().unwrap_or(files).display()
-            )
+        read.map_err(|cause| CachedHandoffError {
+            stage: record.stage,
+            entry: files.parent().unwrap_or(files).to_path_buf(),
+            cause,
         })
     }
 
@@ -105,13 +160,13 @@ impl Handoff {
 }
 
 /// The compression curves among the files of a discrete stage's `record` (read from `files`).
-fn compression_in(record: &StageRecord, files: &Path) -> Result<Option<Compression>, String> {
+fn compression_in(record: &StageRecord, files: &Path) -> Result<Option<Compression>, HandoffError> {
     let listed = |name: &str| record.files.iter().any(|f| Path::new(f) == Path::new(name));
-    let read = |file: PathBuf| -> Result<Filed, String> {
+    let read = |file: PathBuf| -> Result<Filed, HandoffError> {
         let branch = read_branch(&files.join(&file))?;
         Ok(Filed { file, branch })
     };
-    let curves = |loading: &str, unloading: &str| -> Result<Curves, String> {
+    let curves = |loading: &str, unloading: &str| -> Result<Curves, HandoffError> {
         Ok(Curves {
             loading: read(loading.into())?,
             unloading: listed(unloading)
@@ -148,27 +203,40 @@ fn compression_in(record: &StageRecord, files: &Path) -> Result<Option<Compressi
 }
 
 /// A branch file as the discrete stage writes it: columns `strain` and `stress_GPa`.
-fn read_branch(path: &Path) -> Result<Branch, String> {
-    let name = path.display();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{name}: {e}"))?;
+fn read_branch(path: &Path) -> Result<Branch, HandoffError> {
+    let text = std::fs::read_to_string(path).map_err(|cause| HandoffError::Io {
+        path: path.to_path_buf(),
+        cause,
+    })?;
+    let split = |line: &str| {
+        split_fields(line, ',').map_err(|cause| HandoffError::Quote {
+            path: path.to_path_buf(),
+            cause,
+        })
+    };
     let mut lines = strip_bom(&text).lines().filter(|l| !l.trim().is_empty());
-    let header = split_fields(lines.next().unwrap_or_default(), ',')?;
+    let header = split(lines.next().unwrap_or_default())?;
     if header != ["strain", "stress_GPa"] {
-        return Err(format!(
-            "{name}: expected the columns strain, stress_GPa; found {header:?}"
-        ));
+        return Err(HandoffError::Columns {
+            path: path.to_path_buf(),
+            found: header,
+        });
     }
     let mut branch = Branch {
         strain: Vec::new(),
         stress: Vec::new(),
     };
     for (row, line) in lines.enumerate() {
-        let fields = split_fields(line, ',')?;
-        let number = |i: usize| -> Result<f64, String> {
+        let fields = split(line)?;
+        let number = |i: usize| {
             fields
                 .get(i)
                 .and_then(|f| f.parse().ok())
-                .ok_or_else(|| format!("{name}: row {}: not two numbers: {line}", row + 1))
+                .ok_or_else(|| HandoffError::Row {
+                    path: path.to_path_buf(),
+                    row: row + 1,
+                    line: line.to_string(),
+                })
         };
         branch.strain.push(number(0)?);
         branch.stress.push(number(1)?);
@@ -242,7 +310,7 @@ mod tests {
             "realisations/r002/stress_strain_loading.csv",
             ENSEMBLE_LOADING_CSV,
         ]));
-        let e = broken.read().unwrap_err();
+        let e = broken.read().unwrap_err().to_string();
         assert!(e.contains("cache entry") && e.contains("r002"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }

@@ -140,7 +140,10 @@ fn ensemble_name(ctx: &StageContext, asked: usize) -> String {
 
 /// The compression curves the discrete stage handed over.
 fn compression(ctx: &StageContext) -> Result<Compression, StageError> {
-    match ctx.handed(Stage::Discrete).map_err(failed)? {
+    match ctx
+        .handed(Stage::Discrete)
+        .map_err(|e| failed(e.to_string()))?
+    {
         Some(Handoff::Compression(c)) => Ok(c),
         _ => Err(failed(
             "the discrete stage compressed no turf (explicit rods, or a lateral or shear test): \

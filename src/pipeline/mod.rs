@@ -73,7 +73,7 @@ pub struct StageContext<'a> {
 impl StageContext<'_> {
     /// What `stage` handed over, read from its cache entry if it was reused (`Ok(None)`: the
     /// stage did not run or handed nothing over).
-    pub fn handed(&self, stage: Stage) -> Result<Option<Handoff>, String> {
+    pub fn handed(&self, stage: Stage) -> Result<Option<Handoff>, handoff::CachedHandoffError> {
         match self.handoffs.iter().find(|h| h.stage() == stage) {
             Some(h) => h.read(),
             None => Ok(None),

@@ -85,10 +85,15 @@ pub fn strip_bom(text: &str) -> &str {
     text.strip_prefix('\u{feff}').unwrap_or(text)
 }
 
+/// A line whose double-quoted field is not closed.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("a double-quoted field is not closed")]
+pub struct UnclosedQuote;
+
 /// Split one line at `sep` into trimmed fields; a field may be enclosed in double quotes
 /// (`"1.5"`, `"load, uN"`), inside which `sep` is literal and `""` is one quote. An
 /// unterminated quote is an error.
-pub fn split_fields(line: &str, sep: char) -> Result<Vec<String>, String> {
+pub fn split_fields(line: &str, sep: char) -> Result<Vec<String>, UnclosedQuote> {
     let mut fields = Vec::new();
     let mut field = String::new();
     let mut quoted = false;
@@ -110,7 +115,7 @@ pub fn split_fields(line: &str, sep: char) -> Result<Vec<String>, String> {
         }
     }
     if quoted {
-        return Err("a double-quoted field is not closed".into());
+        return Err(UnclosedQuote);
     }
     fields.push(field.trim().to_string());
     Ok(fields)

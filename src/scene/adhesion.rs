@@ -5,11 +5,29 @@
 use super::check::Checker;
 use super::quantity::{Length, Number, Temperature};
 use super::quantity::{Quantity, SurfaceEnergy};
-use crate::laws::{LjKind, SurfaceLaw, ThermallyShifted};
+use crate::laws::{LawError, LjKind, SurfaceLaw, ThermallyShifted};
+use crate::theory::TheoryError;
 use crate::units::Dimension;
 use serde::de::{self, Deserializer, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 use std::fmt;
+
+/// Why the thermal shift of `[adhesion]` could not be computed or applied.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ThermalShiftError {
+    /// `thermal_shift = true` without a `[turf]` to take the tubes from
+    #[error(
+        "needs [turf] (turf.growth.length, turf.tube.r_o, turf.tube.r_i, turf.tube.youngs) to \
+         compute the amplitude u (seed eq. 5.9); give a length instead, e.g. \"5 nm\""
+    )]
+    NoTurf,
+    /// the tubes' thermal amplitude could not be computed
+    #[error("the thermal amplitude of the [turf] tubes (seed eq. 5.9): {0}")]
+    Amplitude(#[from] TheoryError),
+    /// the shifted law could not be built
+    #[error(transparent)]
+    Law(#[from] LawError),
+}
 
 /// The thermal shift of the attractive branch (seed §5.2): off, computed from the tubes'
 /// thermal amplitude u (eq. 5.9, needs `[turf]`), or a given length.
@@ -158,22 +176,14 @@ impl Adhesion {
 
     /// The shift u of the attractive branch, nm: 0 when off, the given length, or (`true`) the
     /// RMS tip amplitude of the `[turf]` tubes at `adhesion.temperature` (seed eq. 5.9).
-    pub fn shift_nm(&self, turf: Option<&super::turf::Turf>) -> Result<f64, String> {
+    pub fn shift_nm(&self, turf: Option<&super::turf::Turf>) -> Result<f64, ThermalShiftError> {
         match self.thermal_shift {
             ThermalShift::Off => Ok(0.0),
             ThermalShift::Amplitude(u) => Ok(u.0),
-            ThermalShift::FromTubes => turf
-                .ok_or_else(|| {
-                    "needs [turf] (turf.growth.length, turf.tube.r_o, turf.tube.r_i, \
-                     turf.tube.youngs) to compute the amplitude u (seed eq. 5.9); give a \
-                     length instead, e.g. \"5 nm\""
-                        .to_string()
-                })?
+            ThermalShift::FromTubes => Ok(turf
+                .ok_or(ThermalShiftError::NoTurf)?
                 .thermal_cantilever()
-                .rms_tip_amplitude(self.temperature.0)
-                .map_err(|e| {
-                    format!("the thermal amplitude of the [turf] tubes (seed eq. 5.9): {e}")
-                }),
+                .rms_tip_amplitude(self.temperature.0)?),
         }
     }
 
@@ -184,7 +194,10 @@ impl Adhesion {
 
     /// The law the engines take: `adhesion.law`, thermally shifted by [`Self::shift_nm`] when
     /// the shift is positive (seed §5.2).
-    pub fn surface_law(&self, turf: Option<&super::turf::Turf>) -> Result<SurfaceLaw, String> {
+    pub fn surface_law(
+        &self,
+        turf: Option<&super::turf::Turf>,
+    ) -> Result<SurfaceLaw, ThermalShiftError> {
         self.surface_law_of(self.law, turf)
     }
 
@@ -193,12 +206,10 @@ impl Adhesion {
         &self,
         kind: LjKind,
         turf: Option<&super::turf::Turf>,
-    ) -> Result<SurfaceLaw, String> {
+    ) -> Result<SurfaceLaw, ThermalShiftError> {
         let base = crate::laws::LennardJones::new(kind, self.gamma.0, self.z0.0);
         match self.shift_nm(turf)? {
-            u if u > 0.0 => ThermallyShifted::new(base, u)
-                .map(SurfaceLaw::from)
-                .map_err(|e| e.to_string()),
+            u if u > 0.0 => Ok(ThermallyShifted::new(base, u).map(SurfaceLaw::from)?),
             _ => Ok(base.into()),
         }
     }

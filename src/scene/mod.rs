@@ -267,7 +267,7 @@ impl Context<'_> {
         let mut points = Vec::with_capacity(s.values.len());
         for (i, value) in s.values.iter().enumerate() {
             let mut d = without_sweep.clone();
-            overrides::set(&mut d, &steps, value.clone()).map_err(bad)?;
+            overrides::set(&mut d, &steps, value.clone()).map_err(|e| bad(e.to_string()))?;
             let scene = self.resolve_doc(&d).map_err(|e| {
                 let detail = match &e {
                     SceneError::Invalid { problems, .. } => problems

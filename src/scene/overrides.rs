@@ -115,15 +115,40 @@ impl Override {
 
     /// Set the value in `doc`, creating tables on the way; arrays must already hold the index.
     pub fn apply(&self, doc: &mut Table) -> Result<(), SceneError> {
-        set(doc, &self.steps, self.value.clone()).map_err(|message| SceneError::Override {
+        set(doc, &self.steps, self.value.clone()).map_err(|e| SceneError::Override {
             arg: self.arg.clone(),
-            message,
+            message: e.to_string(),
         })
     }
 }
 
+/// Why a value could not be set at a key path.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PathError {
+    /// the index is past the end of the array
+    #[error("{at} has {len} element(s); index {index} is out of range")]
+    OutOfRange {
+        /// the array's path
+        at: String,
+        /// its length
+        len: usize,
+        /// the index asked for
+        index: usize,
+    },
+    /// the value on the path is neither a table (for a key) nor an array (for an index)
+    #[error("{} is {kind}, so it has no element {step}", if .at.is_empty() { "the scene" } else { .at.as_str() })]
+    NoElement {
+        /// the value's path ("" for the scene itself)
+        at: String,
+        /// the value's TOML type
+        kind: &'static str,
+        /// the step that cannot be taken, as written in a path
+        step: String,
+    },
+}
+
 /// Set `value` at `steps` in `doc`.
-pub fn set(doc: &mut Table, steps: &[Step], value: Value) -> Result<(), String> {
+pub fn set(doc: &mut Table, steps: &[Step], value: Value) -> Result<(), PathError> {
     let mut here = Value::Table(std::mem::take(doc));
     let result = set_in(&mut here, steps, value, String::new());
     if let Value::Table(t) = here {
@@ -132,7 +157,7 @@ pub fn set(doc: &mut Table, steps: &[Step], value: Value) -> Result<(), String> 
     result
 }
 
-fn set_in(here: &mut Value, steps: &[Step], value: Value, at: String) -> Result<(), String> {
+fn set_in(here: &mut Value, steps: &[Step], value: Value, at: String) -> Result<(), PathError> {
     let Some((first, rest)) = steps.split_first() else {
         *here = value;
         return Ok(());
@@ -151,17 +176,20 @@ fn set_in(here: &mut Value, steps: &[Step], value: Value, at: String) -> Result<
         }
         (Step::Index(i), Value::Array(a)) => {
             let n = a.len();
-            let child = a
-                .get_mut(*i)
-                .ok_or_else(|| format!("{at} has {n} element(s); index {i} is out of range"))?;
+            let Some(child) = a.get_mut(*i) else {
+                return Err(PathError::OutOfRange {
+                    at,
+                    len: n,
+                    index: *i,
+                });
+            };
             set_in(child, rest, value, format!("{at}[{i}]"))
         }
-        (_, other) => Err(format!(
-            "{} is {}, so it has no element {}",
-            if at.is_empty() { "the scene" } else { &at },
-            other.type_str(),
-            path_string(std::slice::from_ref(first))
-        )),
+        (_, other) => Err(PathError::NoElement {
+            kind: other.type_str(),
+            step: path_string(std::slice::from_ref(first)),
+            at,
+        }),
     }
 }
 
@@ -229,12 +257,15 @@ mod tests {
             &parse_path("schedule.segment[3].to").unwrap(),
             Value::Float(5.0),
         );
-        assert!(e.unwrap_err().contains("out of range"));
+        assert!(e.unwrap_err().to_string().contains("out of range"));
         let e = set(
             &mut doc,
             &parse_path("adhesion.gamma.x").unwrap(),
             Value::Float(5.0),
         );
-        assert!(e.unwrap_err().contains("adhesion.gamma is float"));
+        assert!(e
+            .unwrap_err()
+            .to_string()
+            .contains("adhesion.gamma is float"));
     }
 }

@@ -6,7 +6,7 @@
 //! of the wrong dimension is refused with a message naming the dimension the key expects. Every
 //! newtype serialises as its value in internal units, so a resolved scene echoes plain numbers.
 
-use crate::units::{parse_quantity, Dimension};
+use crate::units::{parse_quantity, Dimension, UnitError};
 use serde::de::{self, Deserializer, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 use std::fmt;
@@ -70,11 +70,38 @@ impl<'de> Visitor<'de> for QuantityVisitor {
     }
 }
 
+/// Why a quantity string could not be read; the message always names the dimension expected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum QuantityError {
+    /// a quantity of another dimension (the unit error names the one expected)
+    #[error(transparent)]
+    WrongDimension(UnitError),
+    /// not a quantity at all
+    #[error("{error}; expected {expected}")]
+    Unreadable {
+        /// why it could not be read
+        error: UnitError,
+        /// the dimension the key expects
+        expected: Dimension,
+    },
+    /// not a rate of the dimension per second
+    #[error("\"{text}\" is not {dim} per second (e.g. \"10 uN/s\")")]
+    NotPerSecond {
+        /// the string
+        text: String,
+        /// the dimension whose rate was expected
+        dim: Dimension,
+    },
+}
+
 /// Parse a quantity string, with a message that always names the dimension expected.
-pub fn parse_text(text: &str, dim: Dimension) -> Result<f64, String> {
+pub fn parse_text(text: &str, dim: Dimension) -> Result<f64, QuantityError> {
     parse_quantity(text, dim).map_err(|e| match e {
-        crate::units::UnitError::WrongDimension { .. } => e.to_string(),
-        other => format!("{other}; expected {dim}"),
+        UnitError::WrongDimension { .. } => QuantityError::WrongDimension(e),
+        error => QuantityError::Unreadable {
+            error,
+            expected: dim,
+        },
     })
 }
 
@@ -183,7 +210,7 @@ pub enum Amount {
 
 impl Amount {
     /// Convert to internal units of `dim`, replacing the text by the number.
-    pub fn resolve(&mut self, dim: Dimension) -> Result<f64, String> {
+    pub fn resolve(&mut self, dim: Dimension) -> Result<f64, QuantityError> {
         let v = match self {
             Amount::Number(v) => *v,
             Amount::Text(t) => parse_text(t, dim)?,
@@ -196,7 +223,7 @@ impl Amount {
     ///
     /// `units` has no force-per-time dimension, so `"10 uN/s"` is read as the force
     /// `"10 s uN/s"` (every factor after the `/` divides), which is the rate times one second.
-    pub fn resolve_per_second(&mut self, dim: Dimension) -> Result<f64, String> {
+    pub fn resolve_per_second(&mut self, dim: Dimension) -> Result<f64, QuantityError> {
         let v = match self {
             Amount::Number(v) => *v,
             Amount::Text(t) => {
@@ -206,8 +233,10 @@ impl Amount {
                     .unwrap_or(s.len());
                 let (num, unit) = s.split_at(split);
                 let as_force = format!("{num} s {unit}");
-                parse_quantity(&as_force, dim)
-                    .map_err(|_| format!("\"{t}\" is not {dim} per second (e.g. \"10 uN/s\")"))?
+                parse_quantity(&as_force, dim).map_err(|_| QuantityError::NotPerSecond {
+                    text: t.clone(),
+                    dim,
+                })?
             }
         };
         *self = Amount::Number(v);

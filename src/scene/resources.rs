@@ -132,20 +132,24 @@ pub fn parse_bytes(text: &str) -> Option<f64> {
     (v.is_finite() && v > 0.0).then_some(v)
 }
 
+/// A malformed `TURF_MAX_MEMORY`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}=\"{value}\" is not a memory size: give bytes or a number with B, kB, MB, GB, TB, KiB, MiB, GiB or TiB, e.g. \"8 GB\"", CEILING_VAR)]
+pub struct CeilingError {
+    /// the variable's value
+    pub value: String,
+}
+
 /// The ceiling: `TURF_MAX_MEMORY`, else half the machine's memory, else the fallback.
 /// A malformed `TURF_MAX_MEMORY` is an error naming it.
-pub fn ceiling() -> Result<Ceiling, String> {
+pub fn ceiling() -> Result<Ceiling, CeilingError> {
     if let Ok(v) = std::env::var(CEILING_VAR) {
         return parse_bytes(&v)
             .map(|bytes| Ceiling {
                 bytes,
                 source: format!("{CEILING_VAR}={v}"),
             })
-            .ok_or_else(|| {
-                format!(
-                    "{CEILING_VAR}=\"{v}\" is not a memory size: give bytes or a number with B, kB, MB, GB, TB, KiB, MiB, GiB or TiB, e.g. \"8 GB\""
-                )
-            });
+            .ok_or(CeilingError { value: v });
     }
     Ok(machine_memory().map_or_else(
         || Ceiling {
@@ -184,7 +188,7 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
     let ceiling = match ceiling() {
         Ok(x) => x,
         Err(m) => {
-            c.bad(CEILING_VAR, m);
+            c.bad(CEILING_VAR, m.to_string());
             Ceiling {
                 bytes: FALLBACK_CEILING,
                 source: "the fallback".into(),

@@ -170,7 +170,7 @@ impl Segment {
                         return None;
                     }
                     Err(e) => {
-                        c.bad(key("rate"), e);
+                        c.bad(key("rate"), e.to_string());
                         return None;
                     }
                 }
@@ -228,7 +228,7 @@ impl Schedule {
             let target = match to.resolve(dim) {
                 Ok(v) => v,
                 Err(e) => {
-                    c.bad(key("to"), e);
+                    c.bad(key("to"), e.to_string());
                     continue;
                 }
             };
