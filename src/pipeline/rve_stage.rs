@@ -5,8 +5,9 @@
 //!
 //! Writes the table `discrete_rve_lateral.csv` or `discrete_rve_shear.csv` (every step:
 //! strain, nominal stress σ = (1/V₀) dE*/dε in GPa, the equilibrium energy E*, the tips' fall,
-//! energies, contacts, cost), its loading branch `discrete_rve_{lateral,shear}_loading.csv`
-//! (strain, stress_GPa: what `turf homogenize --lateral-curve / --shear-curve` fits) and summary values `rve_*`: the stress at the largest strain, the
+//! energies, contacts, cost), the loading part of it in `discrete_rve_{lateral,shear}_loading.csv`
+//! (strain, stress_GPa: what `turf homogenize --lateral-curve / --shear-curve` fits) and summary
+//! values `rve_*`: the stress at the largest strain, the
 //! secant modulus of the first step, and `rve_work_error_rel`, the trapezoidal work
 //! V₀ ∫σ dε against the energy change E*(ε_max) − E*(0) along the loading branch — the stress
 //! checked against the energy it is the derivative of (path-dependent snaps between steps
