@@ -41,6 +41,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
         .as_ref()
         .ok_or_else(|| failed("needs [homogenize]".into()))?;
     let realisations = s.turf.as_ref().map_or(1, |t| t.realisations);
+    let mut curves = None;
     let source = match h.curve {
         Curve::TangentLaw => {
             let (Some(e0), Some(e_inf), Some(eps0)) = (h.e0, h.e_inf, h.eps0) else {
@@ -60,7 +61,7 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
                         .into(),
                 ));
             }
-            let compression = compression(ctx)?;
+            let compression = curves.insert(compression(ctx)?);
             let what = match realisations > 1 {
                 false => "discrete stage".to_string(),
                 true => ensemble_name(ctx, realisations),
@@ -101,8 +102,8 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
     }
     let mut files = vec!["material.json".to_string(), "material.inp".to_string()];
     files.extend(summary.files.iter().map(|f| format!("homogenize/{f}")));
-    if realisations > 1 && h.curve != Curve::TangentLaw {
-        let spread = card_spread(h, s, ctx, &summary)?;
+    if let Some(compression) = curves.filter(|_| realisations > 1) {
+        let spread = card_spread(h, s, ctx, &compression, &summary)?;
         values.extend(spread.values);
         files.extend(spread.files);
     }
@@ -229,16 +230,17 @@ fn card_constants(out: &HomogenizeOutput) -> Vec<Constant> {
     c
 }
 
-/// Fit the card to every realisation's own curve (the branch the scene fits, from the files
-/// the discrete stage listed) and reduce each constant over the realisations. A realisation
-/// whose fit fails is named in `homogenize/ensemble.json` and left out.
+/// Fit the card to every realisation's own curve (the branch the scene fits, of the
+/// realisations the discrete stage handed over in `compression`) and reduce each constant over
+/// the realisations. A realisation whose fit fails is named in `homogenize/ensemble.json` and
+/// left out.
 fn card_spread(
     h: &Homogenize,
     s: &Scene,
     ctx: &StageContext,
+    compression: &Compression,
     mean: &homogenize::Summary,
 ) -> Result<Spread, StageError> {
-    let compression = compression(ctx)?;
     let fits: Vec<(usize, Result<Vec<Constant>, String>)> = compression
         .realisations
         .par_iter()
