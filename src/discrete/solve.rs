@@ -150,8 +150,3 @@ impl<'a, E: EnergyTerm + ?Sized> Evaluator<'a, E> {
         self.cost
     }
 }
-
-/// Stopping tolerance (nN) for starting residual r₀.
-pub(crate) fn tolerance(atol: f64, rtol: f64, r0: f64) -> f64 {
-    atol.max(rtol * r0)
-}

@@ -12,7 +12,8 @@
 
 use super::constraints::FixedDofs;
 use super::energy::EnergyTerm;
-use super::solve::{tolerance, Evaluator, Info, SolveError};
+use super::solve::{Evaluator, Info, SolveError};
+use crate::numerics::newton::tolerance;
 
 /// FIRE settings (defaults: Bitzek et al. 2006).
 #[derive(Debug, Clone, Copy, PartialEq)]

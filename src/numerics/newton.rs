@@ -57,7 +57,7 @@ impl NewtonParams {
     /// The tolerance on the residual for a problem whose reference is `reference`:
     /// max(rtol · reference, atol).
     pub fn tolerance(&self, reference: f64) -> f64 {
-        (self.rtol * reference).max(self.atol)
+        tolerance(self.atol, self.rtol, reference)
     }
 
     /// The convergence test on a residual history (the last entry is the current residual):
@@ -157,6 +157,11 @@ pub trait NewtonProblem {
 /// slope `slope` (ascent directions count as flat), with a round-off `allowance`.
 pub fn armijo(e0: f64, e1: f64, c: f64, s: f64, slope: f64, allowance: f64) -> bool {
     e1 <= e0 + c * s * slope.min(0.0) + allowance
+}
+
+/// The residual tolerance max(rtol · reference, atol) (also FIRE's, which is not Newton).
+pub fn tolerance(atol: f64, rtol: f64, reference: f64) -> f64 {
+    (rtol * reference).max(atol)
 }
 
 /// The Euclidean norm.
