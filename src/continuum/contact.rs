@@ -28,6 +28,23 @@
 //! error that the defaults (k_n = 100E*/h₀, h_r = 10⁻³h₀) keep below 10⁻³h₀ at Hertz pressures.
 //! (A law acting at 0 < g < h_r instead holds the surface h_r *below* the indenter: the
 //! solid is then indented by δ + h_r, +1.5h_r/δ in the Hertz load.)
+//!
+//! **Stick** ([`Stick`], the option "held" of the discrete sphere, `crate::discrete::sphere_stick`):
+//! a surface point that is in contact at the end of an increment (g below the law's contact
+//! gap) is tied to the point of the indenter it touches, where it first touched. In the
+//! indenter's frame y = (r, z + δ) (the frame [`Indenter::gap`] works in), the anchor stores
+//! the point's y at first touch, a, and the indenter's normal there, n; with P = I − n⊗n the
+//! held points add the energy per area
+//!
+//! e_t = ½ k_t vᵀP v,  v = y − a,
+//!
+//! whose gradient in the point is k_t P v, its Hessian k_t P, and ∂e_t/∂δ = k_t (P v)_z (so the
+//! load on the indenter carries the held surface's tangential pull), ∂²e_t/∂δ∂y = k_t P e_z,
+//! ∂²e_t/∂δ² = k_t P_zz. The anchors are frozen during an increment (e_t is then a conservative
+//! energy the Newton loop minimises) and renewed after it ([`Contact::renew_anchors`]): points
+//! newly in contact are tied, points that have left contact let go. The point is the current
+//! surface point under both kinematics (under small kinematics the radial displacement is what
+//! the hold resists, so it cannot be dropped as in the gap); the area factor is the law's.
 
 use super::damping::ContactDamping;
 use super::indenter::Indenter;
@@ -119,6 +136,98 @@ pub struct Contact<'a> {
     pub quadrature: Vec<(f64, f64)>,
     /// viscous contact damping over the current step, if any
     pub damping: Option<Damping<'a>>,
+    /// the tangential hold of the points in contact, if any
+    pub stick: Option<Stick<'a>>,
+}
+
+/// A surface point held by the indenter: where it first touched, in the indenter's frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Anchor {
+    /// y = (r, z + δ) at first touch, nm
+    pub point: [f64; 2],
+    /// the indenter's outward normal there
+    pub normal: [f64; 2],
+}
+
+/// The tangential hold over one increment: the anchors of the quadrature points (segment-major,
+/// as [`Contact::profile`]; `None`: free) and the stiffness per area.
+#[derive(Debug, Clone, Copy)]
+pub struct Stick<'a> {
+    /// k_t, GPa/nm (energy per area per nm²)
+    pub stiffness: f64,
+    /// one entry per surface quadrature point
+    pub anchors: &'a [Option<Anchor>],
+}
+
+impl Stick<'_> {
+    /// (e_t, ∂e_t/∂y, ∂²e_t/∂y², ∂e_t/∂δ, ∂²e_t/∂δ∂y, ∂²e_t/∂δ²) of the anchor `a` at the
+    /// point `y` (indenter frame): see the module doc.
+    fn eval(&self, a: &Anchor, y: [f64; 2]) -> PointTerms {
+        let k = self.stiffness;
+        let n = a.normal;
+        let v = [y[0] - a.point[0], y[1] - a.point[1]];
+        let vn = n[0] * v[0] + n[1] * v[1];
+        let pv = [v[0] - vn * n[0], v[1] - vn * n[1]];
+        let proj = |i: usize, j: usize| (i == j) as u8 as f64 - n[i] * n[j];
+        PointTerms {
+            phi: 0.5 * k * (v[0] * pv[0] + v[1] * pv[1]),
+            grad: [k * pv[0], k * pv[1]],
+            hess: [
+                [k * proj(0, 0), k * proj(0, 1)],
+                [k * proj(1, 0), k * proj(1, 1)],
+            ],
+            d: k * pv[1],
+            d_grad: [k * proj(1, 0), k * proj(1, 1)],
+            dd: k * proj(1, 1),
+        }
+    }
+}
+
+/// The energy per area at one surface point and its derivatives in the point's position and
+/// in the depth δ.
+#[derive(Debug, Clone, Copy, Default)]
+struct PointTerms {
+    phi: f64,
+    grad: [f64; 2],
+    hess: [[f64; 2]; 2],
+    d: f64,
+    d_grad: [f64; 2],
+    dd: f64,
+}
+
+impl PointTerms {
+    /// The law's terms at gap `gp` with (φ, p, k) = `law` (see the module doc).
+    fn of_law(gp: &super::indenter::Gap, (phi, p, k): (f64, f64, f64)) -> Self {
+        let n = gp.normal;
+        let h = gp.hessian;
+        let mut t = PointTerms {
+            phi,
+            d: -p * n[1],
+            dd: -k * n[1] * n[1] - p * h[1][1],
+            ..Default::default()
+        };
+        for i in 0..2 {
+            t.grad[i] = -p * n[i];
+            t.d_grad[i] = -k * n[1] * n[i] - p * h[1][i];
+            for j in 0..2 {
+                t.hess[i][j] = -k * n[i] * n[j] - p * h[i][j];
+            }
+        }
+        t
+    }
+
+    fn add(&mut self, o: &PointTerms) {
+        self.phi += o.phi;
+        self.d += o.d;
+        self.dd += o.dd;
+        for i in 0..2 {
+            self.grad[i] += o.grad[i];
+            self.d_grad[i] += o.d_grad[i];
+            for j in 0..2 {
+                self.hess[i][j] += o.hess[i][j];
+            }
+        }
+    }
 }
 
 /// Contact damping over one step (seed eq. 4.4) as an incremental pseudo-potential: at each
@@ -232,10 +341,18 @@ impl Contact<'_> {
                 k -= cd;
                 out.damping += c * len * r * e;
             }
-            if phi == 0.0 && p == 0.0 && k == 0.0 {
+            let held = self
+                .stick
+                .as_ref()
+                .and_then(|s| s.anchors[index * nq + q].as_ref().map(|a| (s, a)));
+            if phi == 0.0 && p == 0.0 && k == 0.0 && held.is_none() {
                 continue;
             }
-            let n = gp.normal;
+            let mut pt = PointTerms::of_law(&gp, (phi, p, k));
+            if let Some((s, a)) = held {
+                let y = surface_point(x, x_ref, xi, false);
+                pt.add(&s.eval(a, [y[0], y[1] + depth]));
+            }
             let mut dphi = [0.0; 4];
             let mut d2phi = [[0.0; 4]; 4];
             let mut dr = [0.0; 4];
@@ -244,24 +361,22 @@ impl Contact<'_> {
                     dr[2 * a] = nsh[a];
                 }
                 for i in 0..2 {
-                    dphi[2 * a + i] = -p * n[i] * nsh[a];
+                    dphi[2 * a + i] = pt.grad[i] * nsh[a];
                     for b in 0..2 {
                         for j in 0..2 {
-                            d2phi[2 * a + i][2 * b + j] =
-                                (-k * n[i] * n[j] - p * gp.hessian[i][j]) * nsh[a] * nsh[b];
+                            d2phi[2 * a + i][2 * b + j] = pt.hess[i][j] * nsh[a] * nsh[b];
                         }
                     }
                 }
             }
+            let phi = pt.phi;
             out.energy += c * len * r * phi;
-            out.load -= c * len * r * p * n[1];
-            // ∂φ/∂δ = −p n_z (∂g/∂δ = n_z), and its derivatives in x and δ
-            let phi_d = -p * n[1];
-            out.load_stiffness += c * len * r * (-k * n[1] * n[1] - p * gp.hessian[1][1]);
+            out.load += c * len * r * pt.d;
+            out.load_stiffness += c * len * r * pt.dd;
             for s in 0..4 {
                 let (a, i) = (s / 2, s % 2);
-                let dphi_d = (-k * n[1] * n[i] - p * gp.hessian[1][i]) * nsh[a];
-                out.load_gradient[s] += c * ((r * dl[s] + len * dr[s]) * phi_d + len * r * dphi_d);
+                let dphi_d = pt.d_grad[i] * nsh[a];
+                out.load_gradient[s] += c * ((r * dl[s] + len * dr[s]) * pt.d + len * r * dphi_d);
                 out.force[s] += c * (r * phi * dl[s] + len * phi * dr[s] + len * r * dphi[s]);
                 for t in 0..4 {
                     out.stiffness[s][t] += c
@@ -302,6 +417,41 @@ impl Contact<'_> {
         pts
     }
 
+    /// The anchors after a converged increment at `depth` ([`Stick`]): every quadrature point
+    /// in contact (gap below the law's contact gap) keeps its anchor in `previous` or, newly in
+    /// contact, is tied where it is; every other point is free.
+    pub fn renew_anchors(
+        &self,
+        current: &[[f64; 2]],
+        reference: &[[f64; 2]],
+        depth: f64,
+        small: bool,
+        previous: &[Option<Anchor>],
+    ) -> Vec<Option<Anchor>> {
+        let mut anchors = Vec::with_capacity(previous.len());
+        for s in &self.segments {
+            let x = [current[s[0]], current[s[1]]];
+            let x_ref = [reference[s[0]], reference[s[1]]];
+            for &(xi, _) in &self.quadrature {
+                let k = anchors.len();
+                let g = self
+                    .indenter
+                    .gap(surface_point(x, x_ref, xi, small), depth)
+                    .gap;
+                anchors.push((g < self.law.contact_gap()).then(|| {
+                    previous.get(k).copied().flatten().unwrap_or_else(|| {
+                        let y = surface_point(x, x_ref, xi, false);
+                        Anchor {
+                            point: [y[0], y[1] + depth],
+                            normal: self.indenter.gap(y, depth).normal,
+                        }
+                    })
+                }));
+            }
+        }
+        anchors
+    }
+
     /// Contact radius (nm): the outermost radius where the gap reaches the law's contact gap,
     /// interpolated linearly between the last point inside and the first outside; 0 without
     /// contact.
@@ -335,7 +485,7 @@ mod tests {
     const FD_TOL: f64 = 1e-6; // central differences with step 1e-6 nm
 
     fn check(law: &dyn SurfaceLaw, ind: Indenter, x: [[f64; 2]; 2], depth: f64, small: bool) {
-        check_with(law, ind, x, depth, small, None);
+        check_with(law, ind, x, depth, small, None, None);
         // damping with start-of-step gaps a little above the current ones (closing gap)
         let previous: Vec<f64> = (0..3)
             .map(|q| ind.gap(x[0], depth).gap + 0.05 * (q + 1) as f64)
@@ -349,7 +499,21 @@ mod tests {
             previous: &previous,
             dt: 0.3,
         };
-        check_with(law, ind, x, depth, small, Some(d));
+        check_with(law, ind, x, depth, small, Some(d), None);
+        // two of the three points held, anchored off their current places, one free
+        let anchor = |dy: [f64; 2], angle: f64| {
+            Some(Anchor {
+                point: [x[0][0] + dy[0], x[0][1] + depth + dy[1]],
+                normal: [angle.sin(), -angle.cos()],
+            })
+        };
+        let anchors = [anchor([0.3, -0.2], 0.2), None, anchor([-0.1, 0.05], -0.4)];
+        let stick = Stick {
+            stiffness: 2.5,
+            anchors: &anchors,
+        };
+        check_with(law, ind, x, depth, small, None, Some(stick));
+        check_with(law, ind, x, depth, small, Some(d), Some(stick));
     }
 
     fn check_with(
@@ -359,6 +523,7 @@ mod tests {
         depth: f64,
         small: bool,
         damping: Option<Damping>,
+        stick: Option<Stick>,
     ) {
         let c = Contact {
             segments: vec![],
@@ -366,6 +531,7 @@ mod tests {
             law,
             quadrature: gauss_legendre_unit(3),
             damping,
+            stick,
         };
         let x_ref = [[x[0][0] - 0.1, 0.0], [x[1][0] + 0.2, 0.0]];
         let o = c.segment(0, x, x_ref, depth, small);
@@ -480,6 +646,7 @@ mod tests {
             law: &law,
             quadrature: gauss_legendre_unit(2),
             damping: None,
+            stick: None,
         };
         let pts = |g: [f64; 3]| -> Vec<ProfilePoint> {
             (0..3)

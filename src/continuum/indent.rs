@@ -177,6 +177,20 @@ pub struct ContactParams {
     pub range_fraction: f64,
     /// Gauss points per surface segment (1 to [`MAX_QUADRATURE_POINTS`])
     pub quadrature_points: usize,
+    /// what the indenter does along its surface
+    pub tangential: Tangential,
+}
+
+/// The indenter's tangential contact.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Tangential {
+    /// no tangential force: the surface slides freely
+    #[default]
+    Frictionless,
+    /// the surface in contact is held where it first touched ([`super::contact::Stick`]),
+    /// by a tangential penalty as stiff as the normal one
+    Stick,
 }
 
 /// The most Gauss points per surface segment the contact accepts (beyond, the surface
@@ -189,6 +203,7 @@ impl Default for ContactParams {
             penalty_factor: 100.0,
             range_fraction: 0.01,
             quadrature_points: 2,
+            tangential: Tangential::Frictionless,
         }
     }
 }
@@ -533,6 +548,20 @@ fn validate(p: &IndentParams) -> Result<(), FeError> {
         if p.adhesion.as_ref().is_some_and(|a| a.damping.is_some()) {
             return Err(FeError::Params(
                 "arc-length continuation passes the folds without contact damping: remove the damping".into(),
+            ));
+        }
+    }
+    if p.contact.tangential == Tangential::Stick {
+        // the anchors are path state renewed after each converged increment of the march; the
+        // arc-length path and the adaptive mesh's transfer do not carry them
+        if p.solver.method == Method::Riks {
+            return Err(FeError::Params(
+                "a sticking indenter holds the surface by anchors renewed increment by increment: it needs the Newton method, not arc-length".into(),
+            ));
+        }
+        if adaptive(p)? {
+            return Err(FeError::Params(
+                "a sticking indenter's anchors are not carried across adaptive meshes: turn mesh.adaptive off".into(),
             ));
         }
     }

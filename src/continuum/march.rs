@@ -14,11 +14,12 @@
 
 use super::arclength::Curve;
 use super::assembly::{Assembler, Evaluation, Solid};
-use super::contact::{Contact, Damping, ProfilePoint, SurfaceLaw};
+use super::contact::{Anchor, Contact, Damping, ProfilePoint, Stick, SurfaceLaw};
 use super::element::Kinematics;
 use super::indent::{
     band_span, build_mesh, new_solid, resolve, snapshot, Adaptation, IndentParams, IndentResult,
-    Method, Progress, Resolved, Row, RunStats, Segment, EDGE_SAFE, MAX_REMESHES_PER_INCREMENT,
+    Method, Progress, Resolved, Row, RunStats, Segment, Tangential, EDGE_SAFE,
+    MAX_REMESHES_PER_INCREMENT,
 };
 use super::indenter::IndenterError;
 use super::machine::{Drive, Driven, Machine};
@@ -76,6 +77,8 @@ pub(super) struct March<'a> {
     history: Vec<f64>,
     /// gaps at the surface quadrature points of the last converged state (damping's gₙ)
     gaps: Vec<f64>,
+    /// the sticking indenter's anchors at the surface quadrature points (None: not sticking)
+    anchors: Option<Vec<Option<Anchor>>>,
     /// change of the controlled variable over the last converged increment (0: none to
     /// extrapolate)
     last_dv: f64,
@@ -152,6 +155,7 @@ impl<'a> March<'a> {
             law,
             quadrature: gauss_legendre_unit(p.contact.quadrature_points),
             damping: None,
+            stick: None,
         };
         let mut asm = Assembler::new(&solid, Some(&contact))?;
         let a = resolved.expected_contact_radius_nm;
@@ -225,6 +229,7 @@ impl<'a> March<'a> {
             u_prev: u.clone(),
             u,
             history,
+            anchors: (p.contact.tangential == Tangential::Stick).then(|| vec![None; gaps.len()]),
             gaps,
             last_dv: 0.0,
             time: 0.0,
@@ -393,6 +398,10 @@ impl<'a> March<'a> {
                 previous: &self.gaps,
                 dt: inc.dt,
             }),
+            stick: self.anchors.as_deref().map(|anchors| Stick {
+                stiffness: self.result.resolved.penalty.stiffness,
+                anchors,
+            }),
             ..self.contact
         };
         let mut sys = Driven {
@@ -453,6 +462,14 @@ impl<'a> March<'a> {
         let profile = profile(&self.contact, &self.solid, &self.u, p.kinematics);
         self.gaps.clear();
         self.gaps.extend(profile.iter().map(|q| q.gap));
+        if let Some(previous) = &self.anchors {
+            let now = current(&self.solid, &self.u);
+            let small = p.kinematics == Kinematics::Small;
+            let renewed =
+                self.contact
+                    .renew_anchors(&now, &self.solid.nodes, depth, small, previous);
+            self.anchors = Some(renewed);
+        }
         self.drive = inc.mode.position(depth, ev.load);
         // the controlled force: P̂ = Q except through the transducer's springs
         self.load = p.machine.applied_load(ev.load, depth);
@@ -556,12 +573,16 @@ fn profile(
     x: &[f64],
     kinematics: Kinematics,
 ) -> Vec<ProfilePoint> {
-    let current: Vec<[f64; 2]> = solid
+    let small = kinematics == Kinematics::Small;
+    contact.profile(&current(solid, x), &solid.nodes, x[solid.dofs()], small)
+}
+
+/// The current node positions X + u of the state `x` = (u, δ) of `solid`.
+fn current(solid: &Solid, x: &[f64]) -> Vec<[f64; 2]> {
+    solid
         .nodes
         .iter()
         .enumerate()
         .map(|(n, p)| [p[0] + x[2 * n], p[1] + x[2 * n + 1]])
-        .collect();
-    let small = kinematics == Kinematics::Small;
-    contact.profile(&current, &solid.nodes, x[solid.dofs()], small)
+        .collect()
 }

@@ -17,7 +17,9 @@ use super::{Handoff, StageContext, StageError, StageOutput};
 use crate::continuum::adhesion::AdhesionParams;
 use crate::continuum::damping::ContactDamping;
 use crate::continuum::events;
-use crate::continuum::indent::{ContactParams, MaterialParams, MeshParams, SolverParams};
+use crate::continuum::indent::{
+    ContactParams, MaterialParams, MeshParams, SolverParams, Tangential,
+};
 use crate::continuum::indenter::{Indenter, BERKOVICH_CONE_HALF_ANGLE_DEG};
 use crate::continuum::machine::Machine as FeMachine;
 use crate::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
@@ -59,7 +61,13 @@ pub(crate) fn indent_params(
         kinematics,
         mesh: mesh_params(scene),
         schedule,
-        contact: ContactParams::default(),
+        contact: ContactParams {
+            tangential: match s.indenter.as_ref().map(|i| i.tangential) {
+                Some(crate::scene::compression::Tangential::Stick) => Tangential::Stick,
+                _ => Tangential::Frictionless,
+            },
+            ..ContactParams::default()
+        },
         solver,
         start,
         adhesion: adhesion(s)?,

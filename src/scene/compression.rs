@@ -44,15 +44,16 @@ pub enum SphereAdhesion {
     LjShifted,
 }
 
-/// The sphere's tangential contact.
+/// The tangential contact of a sphere on the tubes (`compression.sphere_tangential`) or of the
+/// FE's indenter on the continuum (`indenter.tangential`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Tangential {
-    /// nodes slide freely on the sphere
+    /// the surface (the nodes) slides freely
     #[default]
     Frictionless,
-    /// a node is held tangentially where it first touched (a penalty spring moving with the
-    /// sphere) until it leaves contact or pulls beyond `stick_release`
+    /// held tangentially where it first touched (a penalty spring moving with the indenter)
+    /// until it leaves contact (a tube's node also when it pulls beyond `stick_release`)
     Stick,
 }
 

@@ -4,8 +4,12 @@
 //! The blunt Berkovich is a sphere of radius R blended tangentially into the cone of the same
 //! projected area (half-angle θ = 70.3°); the sphere meets the cone at depth
 //! h_t = R(1 − sin θ), which is the default `tip_depth` (105 nm for R = 1.8 µm).
+//!
+//! `tangential = "stick"` holds the surface where it first touched the indenter instead of
+//! letting it slide (`crate::continuum::contact::Stick`).
 
 use super::check::Checker;
+use super::compression::Tangential;
 use super::quantity::Length;
 use serde::{Deserialize, Serialize};
 
@@ -35,6 +39,15 @@ pub struct Indenter {
     /// Default R(1 − sin 70.3°), where the sphere and the equivalent cone are tangent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tip_depth: Option<Length>,
+    /// `"frictionless"` (the surface slides freely) or `"stick"` (the surface is held where
+    /// it first touched, as `compression.sphere_tangential = "stick"` holds the tubes' tips).
+    /// Default `"frictionless"`.
+    #[serde(default, skip_serializing_if = "is_frictionless")]
+    pub tangential: Tangential,
+}
+
+fn is_frictionless(t: &Tangential) -> bool {
+    *t == Tangential::Frictionless
 }
 
 fn default_shape() -> Shape {

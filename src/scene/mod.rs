@@ -359,6 +359,7 @@ fn resolve(mut scene: Scene, file: &Path) -> Result<ResolvedScene, Vec<(String, 
     if let Some(s) = &mut scene.homogenize {
         s.check(&mut c, to);
     }
+    check_stick(&scene, &mut c);
     if !c.problems.is_empty() {
         return Err(c.problems);
     }
@@ -372,6 +373,37 @@ fn resolve(mut scene: Scene, file: &Path) -> Result<ResolvedScene, Vec<(String, 
         derived,
         plan,
     })
+}
+
+/// A sticking indenter renews its anchors increment by increment on a fixed mesh: refuse the
+/// arc-length method and the adaptive mesh with it.
+fn check_stick(scene: &Scene, c: &mut Checker) {
+    let stick = scene
+        .indenter
+        .as_ref()
+        .is_some_and(|i| i.tangential == compression::Tangential::Stick);
+    if !stick {
+        return;
+    }
+    if scene
+        .solver
+        .as_ref()
+        .is_some_and(|s| s.method == solver::Method::Riks)
+    {
+        c.bad(
+            "indenter.tangential",
+            "\"stick\" needs solver.method = \"newton\": the anchors that hold the surface are \
+             renewed after each increment, which the arc-length path does not have (allowed \
+             with \"riks\": \"frictionless\")",
+        );
+    }
+    if scene.mesh.as_ref().and_then(|m| m.adaptive) == Some(true) {
+        c.bad(
+            "indenter.tangential",
+            "\"stick\" needs mesh.adaptive = false: the anchors are not carried across \
+             meshes (allowed with an adaptive mesh: \"frictionless\")",
+        );
+    }
 }
 
 /// The output folder of a run: `--out`, else `[output] dir`, else `runs/<scene name>`.
