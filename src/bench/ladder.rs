@@ -9,11 +9,7 @@
 //! - The turf (full ladder only): the quickstart scene's 9 tubes compressed discretely against
 //!   the hyperfoam card homogenised from them, the card's error against the discrete curve and
 //!   the speed-up, and the card's FE indentation cost.
-//! - Turf indentation (`--turf-indent`, [`TURF_SPHERE`]): a rigid frictionless sphere pressed
-//!   into a 1 µm turf of ≈ 100 tubes, discretely (the reference; a second realisation gives the
-//!   scatter) and by the FE on the hyperfoam card homogenised from the same turf's flat-platen
-//!   compression (hyperfoam, seed 5.3; finite strain, no adhesion): the loads at fixed
-//!   depths, the card's error and the speed-ups.
+//! - Turf indentation (`--turf-indent`): in [`super::turf_indent`].
 
 use super::presets::tabor_sphere;
 use super::sweeps::{cantilever_deflection, hertz_load, HERTZ_E_STAR};
@@ -220,7 +216,7 @@ pub fn turf_rows(out: &Path) -> Vec<Row> {
 }
 
 /// The one row of a chain that failed before it had an answer.
-fn failed_row(problem: &str, fidelity: &str, e: BenchError) -> Row {
+pub(super) fn failed_row(problem: &str, fidelity: &str, e: BenchError) -> Row {
     let cost = Cost {
         wall_s: 0.0,
         cpu_s: None,
@@ -251,15 +247,15 @@ struct Quickstart {
 /// error, except with `keep_stopped_fe` a continuum stage that stopped (its
 /// `continuum/load_depth.csv` holds the increments it reached). `fresh`: empty `dir` first, so
 /// no stage is reused from its cache.
-struct ChainRun {
-    dir: PathBuf,
-    loaded: crate::scene::Loaded,
-    report: RunReport,
-    total: Cost,
+pub(super) struct ChainRun {
+    pub(super) dir: PathBuf,
+    pub(super) loaded: crate::scene::Loaded,
+    pub(super) report: RunReport,
+    pub(super) total: Cost,
 }
 
 impl ChainRun {
-    fn new(
+    pub(super) fn new(
         text: &str,
         file: &str,
         dir: PathBuf,
@@ -302,7 +298,7 @@ impl ChainRun {
         })
     }
 
-    fn stage(&self, s: Stage) -> Result<&StageRecord, BenchError> {
+    pub(super) fn stage(&self, s: Stage) -> Result<&StageRecord, BenchError> {
         self.report
             .summary
             .stages
@@ -314,7 +310,7 @@ impl ChainRun {
             })
     }
 
-    fn value(&self, s: Stage, name: &str) -> Result<f64, BenchError> {
+    pub(super) fn value(&self, s: Stage, name: &str) -> Result<f64, BenchError> {
         self.stage(s)?
             .values
             .get(name)
@@ -328,7 +324,7 @@ impl ChainRun {
     /// The cost of stage `s`: the stage records carry wall time only, so the CPU of the whole
     /// run is split by wall share. A stage reused from the cache costs what it cost when it was
     /// computed: the sum of its own `wall_time_*` values, CPU unknown.
-    fn cost(&self, s: Stage) -> Result<Cost, BenchError> {
+    pub(super) fn cost(&self, s: Stage) -> Result<Cost, BenchError> {
         let r = self.stage(s)?;
         if r.cached {
             let wall = r
@@ -352,7 +348,7 @@ impl ChainRun {
     }
 
     /// Whether stage `s` was reused from the cache.
-    fn cached(&self, s: Stage) -> bool {
+    pub(super) fn cached(&self, s: Stage) -> bool {
         self.stage(s).is_ok_and(|r| r.cached)
     }
 }
@@ -408,310 +404,4 @@ fn quickstart(out: &Path) -> Result<Quickstart, BenchError> {
         fe_peak,
         fe_cost,
     })
-}
-
-/// The turf indentation rung: a scene of the full chain (flat-platen compression of a turf →
-/// hyperfoam card → frictionless sphere on the card, no adhesion, rigid displacement control)
-/// whose `[scene]`, `[turf]` and `[compression]` are also run with the sphere of its
-/// `[indenter]` pressed on the tubes themselves, to the schedule's deepest depth.
-#[derive(Debug, Clone)]
-pub struct TurfIndentSpec<'a> {
-    /// the chain scene's text (e.g. `scenes/turf_sphere.toml`)
-    pub scene: &'a str,
-    /// its name, for messages and the output folders
-    pub name: &'a str,
-    /// depths (nm) at which the loads are compared, within the FE's schedule
-    pub depths: &'a [f64],
-    /// steps of the discrete sphere's drive
-    pub sphere_steps: usize,
-    /// seeds of further discrete turfs (same statistics) indented by the same sphere: the
-    /// realisation scatter the card's error is to be judged against
-    pub other_seeds: &'a [u64],
-}
-
-/// The rung of `turf bench --turf-indent`: `scenes/turf_sphere.toml`, loads at 40, 70 and
-/// 100 nm, a second turf (seed 4) for the scatter.
-pub const TURF_SPHERE: TurfIndentSpec<'static> = TurfIndentSpec {
-    scene: include_str!("../../scenes/turf_sphere.toml"),
-    name: "turf_sphere",
-    depths: &[40.0, 70.0, 100.0],
-    sphere_steps: 11,
-    other_seeds: &[4],
-};
-
-/// `y(x)` on the piecewise-linear curve through `(xs, ys)` (`xs` increasing), `None` outside.
-fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
-    let i = xs.windows(2).position(|w| w[0] <= x && x <= w[1])?;
-    let t = (x - xs[i]) / (xs[i + 1] - xs[i]).max(f64::MIN_POSITIVE);
-    Some(ys[i] + t * (ys[i + 1] - ys[i]))
-}
-
-/// The `(depth_nm, load_nN)` columns of a `load_depth.csv` written by the discrete or the
-/// continuum stage (loading part only: up to the deepest point).
-fn read_load_depth(path: &Path) -> Result<(Vec<f64>, Vec<f64>), BenchError> {
-    let text = std::fs::read_to_string(path).map_err(|error| BenchError::Io {
-        path: path.to_path_buf(),
-        error,
-    })?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .ok_or_else(|| BenchError::NoColumn {
-                path: path.to_path_buf(),
-                column: name.to_string(),
-            })
-    };
-    let (d, p) = (col("depth_nm")?, col("load_nN")?);
-    let (mut depth, mut load) = (Vec::new(), Vec::new());
-    for (i, line) in lines.enumerate() {
-        let cells: Vec<&str> = line.split(',').collect();
-        let num = |c: usize| {
-            cells
-                .get(c)
-                .and_then(|v| v.parse::<f64>().ok())
-                .ok_or_else(|| BenchError::NotANumber {
-                    path: path.to_path_buf(),
-                    line: i + 2,
-                })
-        };
-        let (x, y) = (num(d)?, num(p)?);
-        if depth.last().is_some_and(|&last| x < last) {
-            break;
-        }
-        depth.push(x);
-        load.push(y);
-    }
-    Ok((depth, load))
-}
-
-/// The discrete sphere scene derived from the chain scene: its `[scene]` (with `seed`),
-/// `[turf]` and `[compression]`, the sphere of `[indenter]` driven to `depth` below the
-/// relaxed height `height` in `steps` steps.
-fn sphere_scene(
-    spec: &TurfIndentSpec,
-    seed: u64,
-    depth: f64,
-    height: f64,
-) -> Result<String, BenchError> {
-    use toml::Value;
-    let missing = |what| BenchError::Missing {
-        scene: spec.name.to_string(),
-        what,
-    };
-    let mut doc: toml::Table =
-        spec.scene
-            .parse()
-            .map_err(|e: toml::de::Error| BenchError::Toml {
-                scene: spec.name.to_string(),
-                message: e.message().to_string(),
-            })?;
-    let radius = doc
-        .get("indenter")
-        .and_then(|i| i.get("radius"))
-        .cloned()
-        .ok_or_else(|| missing("indenter.radius"))?;
-    doc.retain(|k, _| matches!(k, "scene" | "turf" | "compression"));
-    let Some(Value::Table(k)) = doc.get_mut("compression") else {
-        return Err(missing("[compression]"));
-    };
-    k.insert("indenter".into(), Value::String("sphere".into()));
-    k.insert("sphere_radius".into(), radius);
-    k.insert("to".into(), Value::Float(depth / height));
-    k.insert("steps".into(), Value::Integer(spec.sphere_steps as i64));
-    k.insert("unload".into(), Value::Boolean(false));
-    let Some(Value::Table(s)) = doc.get_mut("scene") else {
-        return Err(missing("[scene]"));
-    };
-    s.insert("seed".into(), Value::Integer(seed as i64));
-    Ok(toml::to_string(&doc)?)
-}
-
-/// Said of a cost taken from the stage cache.
-const CACHED: &str = " (reused from the stage cache: the wall recorded when it was computed)";
-
-/// A discrete sphere indentation of one turf.
-struct SphereRun {
-    seed: u64,
-    curve: (Vec<f64>, Vec<f64>),
-    cost: Cost,
-    tubes: f64,
-    cached: bool,
-}
-
-/// Everything the rung measured.
-struct TurfIndent {
-    radius: f64,
-    box_nm: f64,
-    height: f64,
-    fe: (Vec<f64>, Vec<f64>),
-    fe_cost: Cost,
-    /// its mesh, or why it stopped
-    fe_note: String,
-    /// the flat-platen compression and the fit that make the card
-    card_making: Cost,
-    fit_rms: f64,
-    card_cached: bool,
-    spheres: Vec<SphereRun>,
-}
-
-fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchError> {
-    let missing = |what| BenchError::Missing {
-        scene: spec.name.to_string(),
-        what,
-    };
-    let chain = ChainRun::new(spec.scene, spec.name, out.join(spec.name), false, true)?;
-    let fe = read_load_depth(&chain.dir.join("continuum/load_depth.csv"))?;
-    let deepest = chain
-        .loaded
-        .base
-        .derived
-        .schedule
-        .as_ref()
-        .map(|t| t.max_depth_nm)
-        .ok_or_else(|| missing("[schedule]"))?;
-    let height = chain.value(Stage::Discrete, "turf_height_nm")?;
-    let scene = &chain.loaded.base.scene;
-    let seed = scene.scene.seed;
-    let mut spheres = Vec::new();
-    for &s in std::iter::once(&seed).chain(spec.other_seeds) {
-        let text = sphere_scene(spec, s, deepest, height)?;
-        let run = ChainRun::new(
-            &text,
-            &format!("{} (discrete sphere, seed {s})", spec.name),
-            out.join(format!("{}_sphere_seed{s}", spec.name)),
-            false,
-            false,
-        )?;
-        spheres.push(SphereRun {
-            seed: s,
-            curve: read_load_depth(&run.dir.join("load_depth.csv"))?,
-            cost: run.cost(Stage::Discrete)?,
-            tubes: run.value(Stage::Discrete, "tubes")?,
-            cached: run.cached(Stage::Discrete),
-        });
-    }
-    let (flat, fit) = (chain.cost(Stage::Discrete)?, chain.cost(Stage::Homogenize)?);
-    let (fe_cost, fe_note) = match &chain.report.failure {
-        None => (
-            chain.cost(Stage::Continuum)?,
-            format!("{:.0} elements", chain.value(Stage::Continuum, "elements")?),
-        ),
-        // a stopped stage has no record: its wall is what the recorded stages leave
-        Some(f) => (
-            Cost {
-                wall_s: (chain.total.wall_s
-                    - chain
-                        .report
-                        .summary
-                        .stages
-                        .iter()
-                        .map(|r| r.wall_time_s)
-                        .sum::<f64>())
-                .max(0.0),
-                cpu_s: None,
-            },
-            format!("the FE stopped ({f})"),
-        ),
-    };
-    let radius = scene.indenter.as_ref().map(|i| i.radius.0);
-    Ok(TurfIndent {
-        radius: radius.ok_or_else(|| missing("[indenter]"))?,
-        box_nm: scene.turf.as_ref().map_or(f64::NAN, |t| t.box_size[0].0),
-        height,
-        fe,
-        fe_cost,
-        fe_note,
-        card_making: Cost {
-            wall_s: flat.wall_s + fit.wall_s,
-            cpu_s: flat.cpu_s.zip(fit.cpu_s).map(|(a, b)| a + b),
-        },
-        fit_rms: chain.value(Stage::Homogenize, "fit_rms_rel")?,
-        card_cached: chain.cached(Stage::Discrete),
-        spheres,
-    })
-}
-
-/// The rung's rows: at each depth of `spec`, the discrete load on the sphere (the reference,
-/// the scene's own seed), the FE load on the card (its error; speed-ups in the note) and the
-/// discrete load of each further turf (the realisation scatter).
-pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
-    let t = match turf_indent(out, spec) {
-        Ok(t) => t,
-        Err(e) => {
-            let problem = "turf indentation by a sphere: discrete tubes against the card";
-            return vec![failed_row(problem, spec.name, e)];
-        }
-    };
-    let fe_speedup = |s: &SphereRun| s.cost.wall_s / t.fe_cost.wall_s.max(1e-9);
-    let chain_speedup =
-        |s: &SphereRun| s.cost.wall_s / (t.fe_cost.wall_s + t.card_making.wall_s).max(1e-9);
-    let mut rows = Vec::new();
-    for &d in spec.depths {
-        let problem = format!(
-            "turf indentation by a {:.0} nm sphere: load at δ = {d:.0} nm (nN)",
-            t.radius
-        );
-        let at = |c: &(Vec<f64>, Vec<f64>)| {
-            interpolate(&c.0, &c.1, d).ok_or_else(|| BenchError::BeyondCurve {
-                depth: d,
-                end: *c.0.last().unwrap_or(&0.0),
-            })
-        };
-        let Some(first) = t.spheres.first() else {
-            continue;
-        };
-        let reference = at(&first.curve).unwrap_or(f64::NAN);
-        let source = format!("discrete tubes, seed {}", first.seed);
-        for (i, s) in t.spheres.iter().enumerate() {
-            let note = format!(
-                "{:.0} tubes in a {:.0} nm box, height {:.0} nm; √(2Rδ) = {:.0} nm; {} \
-                 steps; the cost is the whole curve's{}{}",
-                s.tubes,
-                t.box_nm,
-                t.height,
-                (2.0 * t.radius * d).sqrt(),
-                spec.sphere_steps,
-                if i == 0 {
-                    ""
-                } else {
-                    "; another realisation: its difference is the scatter"
-                },
-                if s.cached { CACHED } else { "" }
-            );
-            let fidelity = format!("discrete sphere (seed {})", s.seed);
-            rows.push(Row::new(
-                &problem,
-                &fidelity,
-                at(&s.curve),
-                (reference, &source),
-                s.cost,
-                note,
-            ));
-        }
-        rows.push(Row::new(
-            &problem,
-            "FE on the card (finite strain, no adhesion)",
-            at(&t.fe).map_err(|e| BenchError::Noted {
-                error: Box::new(e),
-                note: t.fe_note.clone(),
-            }),
-            (reference, &source),
-            t.fe_cost,
-            format!(
-                "card fitted to the same turf's flat compression (rms {:.1} %); {}; \
-                 {:.0}× faster than the tubes, {:.2}× with the card's making \
-                 (compression + fit {:.1} s{})",
-                100.0 * t.fit_rms,
-                t.fe_note,
-                fe_speedup(first),
-                chain_speedup(first),
-                t.card_making.wall_s,
-                if t.card_cached { CACHED } else { "" }
-            ),
-        ));
-    }
-    rows
 }

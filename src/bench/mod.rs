@@ -9,6 +9,7 @@
 pub mod ladder;
 pub mod presets;
 pub mod sweeps;
+pub mod turf_indent;
 
 use crate::report::plot::{Plot, Series};
 use crate::report::{write_atomic, write_json, ReportError};
@@ -354,7 +355,7 @@ pub struct BenchOptions {
     pub quick: bool,
     /// folder of the turf chain's own runs (`<out>/quickstart`, `<out>/turf_sphere…`)
     pub out: PathBuf,
-    /// also run the turf indentation rung ([`ladder::TURF_SPHERE`]: ≈ 40 min cold; its
+    /// also run the turf indentation rung ([`turf_indent::TURF_SPHERE`]: ≈ 50 min cold; its
     /// discrete stages are cached under `out`, so a re-run takes seconds)
     pub turf_indent: bool,
 }
@@ -390,8 +391,10 @@ fn tasks(opts: &BenchOptions) -> Vec<Task<'_>> {
         t.push((
             "turf indentation: tubes against the card",
             Box::new(|r| {
-                r.rows
-                    .extend(ladder::turf_indent_rows(&opts.out, &ladder::TURF_SPHERE))
+                r.rows.extend(turf_indent::turf_indent_rows(
+                    &opts.out,
+                    &turf_indent::TURF_SPHERE,
+                ))
             }),
         ));
     }

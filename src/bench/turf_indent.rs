@@ -1,0 +1,441 @@
+//! The turf indentation rung of `turf bench --turf-indent` ([`TURF_SPHERE`]): a rigid sphere
+//! pressed into a 1 µm turf of ≈ 100 tubes, discretely on several turfs of the same statistics
+//! (the reference: their mean, its 95 % interval the realisation scatter) and by the FE on the
+//! hyperfoam card homogenised from the flat-platen compression of one of them (seed 5.3; finite
+//! strain, no adhesion) — with the sphere's tips free to slide (frictionless) and held where
+//! they touch (`compression.sphere_tangential` / `indenter.tangential = "stick"`), the same
+//! contact in both fidelities: the loads at fixed depths, the card's error and the costs.
+
+use super::ladder::{failed_row, ChainRun};
+use super::{BenchError, Cost, Row};
+use crate::numerics::statistics::Estimate;
+use crate::scene::Stage;
+use std::path::Path;
+
+/// The turf indentation rung: a scene of the full chain (flat-platen compression of a turf →
+/// hyperfoam card → sphere on the card, no adhesion, rigid displacement control) whose
+/// `[scene]`, `[turf]` and `[compression]` are also run with the sphere of its `[indenter]`
+/// pressed on the tubes themselves, to the schedule's deepest depth, on each turf of `seeds`.
+#[derive(Debug, Clone)]
+pub struct TurfIndentSpec<'a> {
+    /// the chain scene's text (e.g. `scenes/turf_sphere.toml`)
+    pub scene: &'a str,
+    /// its name, for messages and the output folders
+    pub name: &'a str,
+    /// depths (nm) at which the loads are compared, within the FE's schedule
+    pub depths: &'a [f64],
+    /// steps of the discrete sphere's drive
+    pub sphere_steps: usize,
+    /// the seeds of the discrete turfs (same statistics) indented by the sphere: their mean
+    /// load is the reference, its 95 % interval the realisation scatter the card's error is
+    /// judged against (the card comes from the scene's own seed)
+    pub seeds: &'a [u64],
+}
+
+/// The rung of `turf bench --turf-indent`: `scenes/turf_sphere.toml`, loads at 40, 70 and
+/// 100 nm, four turfs.
+pub const TURF_SPHERE: TurfIndentSpec<'static> = TurfIndentSpec {
+    scene: include_str!("../../scenes/turf_sphere.toml"),
+    name: "turf_sphere",
+    depths: &[40.0, 70.0, 100.0],
+    sphere_steps: 11,
+    seeds: &[3, 4, 5, 6],
+};
+
+/// What the sphere does with what it touches, in both fidelities.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Tip {
+    /// slides freely
+    Frictionless,
+    /// held where it first touched
+    Held,
+}
+
+impl Tip {
+    /// Held first: the frictionless FE run, the scene as written, is the chain folder's last.
+    const ALL: [Tip; 2] = [Tip::Held, Tip::Frictionless];
+
+    /// The value of `compression.sphere_tangential` and `indenter.tangential`.
+    fn key(self) -> &'static str {
+        match self {
+            Tip::Frictionless => "frictionless",
+            Tip::Held => "stick",
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Tip::Frictionless => "frictionless",
+            Tip::Held => "held",
+        }
+    }
+}
+
+/// `y(x)` on the piecewise-linear curve through `(xs, ys)` (`xs` increasing), `None` outside.
+fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
+    let i = xs.windows(2).position(|w| w[0] <= x && x <= w[1])?;
+    let t = (x - xs[i]) / (xs[i + 1] - xs[i]).max(f64::MIN_POSITIVE);
+    Some(ys[i] + t * (ys[i + 1] - ys[i]))
+}
+
+/// The `(depth_nm, load_nN)` columns of a `load_depth.csv` written by the discrete or the
+/// continuum stage (loading part only: up to the deepest point).
+fn read_load_depth(path: &Path) -> Result<(Vec<f64>, Vec<f64>), BenchError> {
+    let text = std::fs::read_to_string(path).map_err(|error| BenchError::Io {
+        path: path.to_path_buf(),
+        error,
+    })?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .ok_or_else(|| BenchError::NoColumn {
+                path: path.to_path_buf(),
+                column: name.to_string(),
+            })
+    };
+    let (d, p) = (col("depth_nm")?, col("load_nN")?);
+    let (mut depth, mut load) = (Vec::new(), Vec::new());
+    for (i, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        let num = |c: usize| {
+            cells
+                .get(c)
+                .and_then(|v| v.parse::<f64>().ok())
+                .ok_or_else(|| BenchError::NotANumber {
+                    path: path.to_path_buf(),
+                    line: i + 2,
+                })
+        };
+        let (x, y) = (num(d)?, num(p)?);
+        if depth.last().is_some_and(|&last| x < last) {
+            break;
+        }
+        depth.push(x);
+        load.push(y);
+    }
+    Ok((depth, load))
+}
+
+/// The scene `spec.scene` parsed, for the derived scenes.
+fn parse(spec: &TurfIndentSpec) -> Result<toml::Table, BenchError> {
+    spec.scene
+        .parse()
+        .map_err(|e: toml::de::Error| BenchError::Toml {
+            scene: spec.name.to_string(),
+            message: e.message().to_string(),
+        })
+}
+
+fn missing(spec: &TurfIndentSpec, what: &'static str) -> BenchError {
+    BenchError::Missing {
+        scene: spec.name.to_string(),
+        what,
+    }
+}
+
+/// The chain scene with the FE indenter's tangential contact `tip`.
+fn chain_scene(spec: &TurfIndentSpec, tip: Tip) -> Result<String, BenchError> {
+    let mut doc = parse(spec)?;
+    let Some(toml::Value::Table(i)) = doc.get_mut("indenter") else {
+        return Err(missing(spec, "[indenter]"));
+    };
+    i.insert("tangential".into(), toml::Value::String(tip.key().into()));
+    Ok(toml::to_string(&doc)?)
+}
+
+/// The discrete sphere scene derived from the chain scene: its `[scene]` (with `seed`),
+/// `[turf]` and `[compression]`, the sphere of `[indenter]` with tips `tip` driven to `depth`
+/// below the relaxed height `height` in `steps` steps.
+fn sphere_scene(
+    spec: &TurfIndentSpec,
+    seed: u64,
+    tip: Tip,
+    depth: f64,
+    height: f64,
+) -> Result<String, BenchError> {
+    use toml::Value;
+    let mut doc = parse(spec)?;
+    let radius = doc
+        .get("indenter")
+        .and_then(|i| i.get("radius"))
+        .cloned()
+        .ok_or_else(|| missing(spec, "indenter.radius"))?;
+    doc.retain(|k, _| matches!(k, "scene" | "turf" | "compression"));
+    let Some(Value::Table(k)) = doc.get_mut("compression") else {
+        return Err(missing(spec, "[compression]"));
+    };
+    k.insert("indenter".into(), Value::String("sphere".into()));
+    k.insert("sphere_radius".into(), radius);
+    k.insert("sphere_tangential".into(), Value::String(tip.key().into()));
+    k.insert("to".into(), Value::Float(depth / height));
+    k.insert("steps".into(), Value::Integer(spec.sphere_steps as i64));
+    k.insert("unload".into(), Value::Boolean(false));
+    let Some(Value::Table(s)) = doc.get_mut("scene") else {
+        return Err(missing(spec, "[scene]"));
+    };
+    s.insert("seed".into(), Value::Integer(seed as i64));
+    Ok(toml::to_string(&doc)?)
+}
+
+/// Said of a cost taken from the stage cache.
+const CACHED: &str = " (reused from the stage cache: the wall recorded when it was computed)";
+
+/// A discrete sphere indentation of one turf.
+struct SphereRun {
+    seed: u64,
+    curve: (Vec<f64>, Vec<f64>),
+    cost: Cost,
+    tubes: f64,
+    cached: bool,
+}
+
+/// The FE on the card: its curve, cost and mesh (or why it stopped).
+struct FeRun {
+    curve: (Vec<f64>, Vec<f64>),
+    cost: Cost,
+    note: String,
+}
+
+impl FeRun {
+    /// The continuum stage of `chain`, which may have stopped part way.
+    fn of(chain: &ChainRun) -> Result<FeRun, BenchError> {
+        let curve = read_load_depth(&chain.dir.join("continuum/load_depth.csv"))?;
+        let (cost, note) = match &chain.report.failure {
+            None => (
+                chain.cost(Stage::Continuum)?,
+                format!("{:.0} elements", chain.value(Stage::Continuum, "elements")?),
+            ),
+            // a stopped stage has no record: its wall is what the recorded stages leave
+            Some(f) => (
+                Cost {
+                    wall_s: (chain.total.wall_s
+                        - chain
+                            .report
+                            .summary
+                            .stages
+                            .iter()
+                            .map(|r| r.wall_time_s)
+                            .sum::<f64>())
+                    .max(0.0),
+                    cpu_s: None,
+                },
+                format!("the FE stopped ({f})"),
+            ),
+        };
+        Ok(FeRun { curve, cost, note })
+    }
+}
+
+/// One tip condition: the discrete sphere on every turf and the FE on the card.
+struct TipRuns {
+    tip: Tip,
+    spheres: Vec<SphereRun>,
+    fe: FeRun,
+}
+
+/// Everything the rung measured.
+struct TurfIndent {
+    radius: f64,
+    box_nm: f64,
+    height: f64,
+    /// the flat-platen compression and the fit that make the card
+    card_making: Cost,
+    fit_rms: f64,
+    card_cached: bool,
+    /// the seed of the turf the card comes from
+    card_seed: u64,
+    /// steps of the discrete sphere's drive
+    steps: usize,
+    tips: Vec<TipRuns>,
+}
+
+fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchError> {
+    let dir = out.join(spec.name);
+    let mut chains = Vec::new();
+    for tip in Tip::ALL {
+        let chain = ChainRun::new(
+            &chain_scene(spec, tip)?,
+            spec.name,
+            dir.clone(),
+            false,
+            true,
+        )?;
+        let fe = FeRun::of(&chain)?;
+        chains.push((tip, fe, chain));
+    }
+    // the last chain run: its discrete and homogenize stages (the card) are those of all
+    let chain = &chains.last().ok_or_else(|| missing(spec, "[indenter]"))?.2;
+    let deepest = chain
+        .loaded
+        .base
+        .derived
+        .schedule
+        .as_ref()
+        .map(|t| t.max_depth_nm)
+        .ok_or_else(|| missing(spec, "[schedule]"))?;
+    let height = chain.value(Stage::Discrete, "turf_height_nm")?;
+    let scene = &chain.loaded.base.scene;
+    let (flat, fit) = (chain.cost(Stage::Discrete)?, chain.cost(Stage::Homogenize)?);
+    let radius = scene.indenter.as_ref().map(|i| i.radius.0);
+    let mut t = TurfIndent {
+        radius: radius.ok_or_else(|| missing(spec, "[indenter]"))?,
+        box_nm: scene.turf.as_ref().map_or(f64::NAN, |t| t.box_size[0].0),
+        height,
+        card_making: Cost {
+            wall_s: flat.wall_s + fit.wall_s,
+            cpu_s: flat.cpu_s.zip(fit.cpu_s).map(|(a, b)| a + b),
+        },
+        fit_rms: chain.value(Stage::Homogenize, "fit_rms_rel")?,
+        card_cached: chain.cached(Stage::Discrete),
+        card_seed: scene.scene.seed,
+        steps: spec.sphere_steps,
+        tips: Vec::new(),
+    };
+    for (tip, fe, _) in chains {
+        let mut spheres = Vec::new();
+        for &s in spec.seeds {
+            let text = sphere_scene(spec, s, tip, deepest, height)?;
+            let run = ChainRun::new(
+                &text,
+                &format!(
+                    "{} (discrete sphere, {} tips, seed {s})",
+                    spec.name,
+                    tip.name()
+                ),
+                out.join(format!("{}_sphere_{}_seed{s}", spec.name, tip.name())),
+                false,
+                false,
+            )?;
+            spheres.push(SphereRun {
+                seed: s,
+                curve: read_load_depth(&run.dir.join("load_depth.csv"))?,
+                cost: run.cost(Stage::Discrete)?,
+                tubes: run.value(Stage::Discrete, "tubes")?,
+                cached: run.cached(Stage::Discrete),
+            });
+        }
+        t.tips.push(TipRuns { tip, spheres, fe });
+    }
+    Ok(t)
+}
+
+/// The rung's rows: at each depth of `spec` and for each tip condition, the discrete load on
+/// the sphere (the mean over the turfs, the reference) and the FE load on the card (its error
+/// against that mean; where it falls against the turfs' 95 % interval and the speed-ups in the
+/// note).
+pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
+    let t = match turf_indent(out, spec) {
+        Ok(t) => t,
+        Err(e) => {
+            let problem = "turf indentation by a sphere: discrete tubes against the card";
+            return vec![failed_row(problem, spec.name, e)];
+        }
+    };
+    let mut rows = Vec::new();
+    for &d in spec.depths {
+        let problem = format!(
+            "turf indentation by a {:.0} nm sphere: load at δ = {d:.0} nm (nN)",
+            t.radius
+        );
+        for tips in &t.tips {
+            rows.extend(tip_rows(&t, tips, &problem, d));
+        }
+    }
+    rows
+}
+
+/// `y` at depth `d` on the curve `c`.
+fn at(c: &(Vec<f64>, Vec<f64>), d: f64) -> Result<f64, BenchError> {
+    interpolate(&c.0, &c.1, d).ok_or_else(|| BenchError::BeyondCurve {
+        depth: d,
+        end: *c.0.last().unwrap_or(&0.0),
+    })
+}
+
+/// The two rows of one tip condition at depth `d`: the turfs' mean and the FE on the card.
+fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> [Row; 2] {
+    let name = tips.tip.name();
+    let loads: Result<Vec<f64>, BenchError> =
+        tips.spheres.iter().map(|s| at(&s.curve, d)).collect();
+    let estimate = loads.as_ref().ok().and_then(|l| Estimate::of(l));
+    let n = tips.spheres.len();
+    let sum = |f: &dyn Fn(&SphereRun) -> Option<f64>| -> Option<f64> {
+        tips.spheres.iter().map(f).sum::<Option<f64>>()
+    };
+    let cost = Cost {
+        wall_s: sum(&|s| Some(s.cost.wall_s)).unwrap_or(f64::NAN),
+        cpu_s: sum(&|s| s.cost.cpu_s),
+    };
+    let per_turf = |l: &[f64]| {
+        tips.spheres
+            .iter()
+            .zip(l)
+            .map(|(s, v)| format!("seed {} {v:.1}", s.seed))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let interval = |e: &Estimate| match e.ci95 {
+        Some((lo, hi)) => format!(
+            "95 % interval of the mean [{lo:.1}, {hi:.1}] (±{:.0} %)",
+            100.0 * 0.5 * (hi - lo) / e.mean.abs().max(f64::MIN_POSITIVE)
+        ),
+        None => "one turf: no interval".into(),
+    };
+    let first = tips.spheres.first();
+    let cached = tips.spheres.iter().any(|s| s.cached);
+    let note = format!(
+        "{}; {}; {:.0} tubes in a {:.0} nm box, height {:.0} nm; √(2Rδ) = {:.0} nm; {} steps;          the cost is the {n} whole curves'{}",
+        loads.as_deref().map_or(String::new(), per_turf),
+        estimate.as_ref().map_or(String::new(), interval),
+        first.map_or(f64::NAN, |s| s.tubes),
+        t.box_nm,
+        t.height,
+        (2.0 * t.radius * d).sqrt(),
+        t.steps,
+        if cached { CACHED } else { "" }
+    );
+    let fidelity = format!("discrete sphere, {name} tips (mean of {n} turfs)");
+    let reference = estimate.as_ref().map_or(f64::NAN, |e| e.mean);
+    let discrete = Row::new(
+        problem,
+        &fidelity,
+        loads.map(|_| reference),
+        (f64::NAN, "— (the reference)"),
+        cost,
+        note,
+    );
+    let fe = &tips.fe;
+    let answer = at(&fe.curve, d);
+    let inside = match (&answer, estimate.as_ref().and_then(|e| e.ci95)) {
+        (Ok(a), Some((lo, hi))) if (lo..=hi).contains(a) => "inside the turfs' 95 % interval; ",
+        (Ok(_), Some(_)) => "outside the turfs' 95 % interval; ",
+        _ => "",
+    };
+    let mean_wall = cost.wall_s / n.max(1) as f64;
+    let card = Row::new(
+        problem,
+        &format!("FE on the card, {name} (finite strain, no adhesion)"),
+        answer.map_err(|e| BenchError::Noted {
+            error: Box::new(e),
+            note: fe.note.clone(),
+        }),
+        (reference, &fidelity),
+        fe.cost,
+        format!(
+            "{inside}card fitted to the seed-{} turf's flat compression (rms {:.1} %); {}; \
+             {:.0}× faster than a turf's sphere run, {:.2}× with the card's making \
+             (compression + fit {:.1} s{})",
+            t.card_seed,
+            100.0 * t.fit_rms,
+            fe.note,
+            mean_wall / fe.cost.wall_s.max(1e-9),
+            mean_wall / (fe.cost.wall_s + t.card_making.wall_s).max(1e-9),
+            t.card_making.wall_s,
+            if t.card_cached { CACHED } else { "" }
+        ),
+    );
+    [discrete, card]
+}
