@@ -8,6 +8,8 @@
 //! dψ = S·dE with dE = [dE_RR, dE_ZZ, dE_θθ, 2dE_RZ] and dS = 𝔺·dE. A 4th-order tensor 𝕋 maps
 //! to the 4×4 matrix D_IJ = 𝕋_ijkl with I ↔ (ij), J ↔ (kl).
 //!
+//! [`ellipticity`] tells whether a state can localise (the acoustic tensor).
+//!
 //! Models: [`linear`] (St Venant–Kirchhoff; Hooke under small kinematics), [`hyperfoam`]
 //! (Storåkers/Abaqus `*HYPERFOAM`, seed eq. 5.3 corrected in PHYSICS.md), [`transverse_foam`]
 //! (the hyperfoam with fibre and longitudinal-shear terms along the Z axis: the turf's
@@ -15,6 +17,7 @@
 //! [`viscoelastic`] (Prony series on the whole stress, seed eq. 5.8, Simo 1987 recurrence).
 //! Every model checks J = √det C > 0 and returns an error otherwise.
 
+pub mod ellipticity;
 pub mod hyperfoam;
 pub mod linear;
 pub mod transverse_foam;
