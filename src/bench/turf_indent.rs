@@ -387,7 +387,8 @@ fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> [Row; 2] {
     let first = tips.spheres.first();
     let cached = tips.spheres.iter().any(|s| s.cached);
     let note = format!(
-        "{}; {}; {:.0} tubes in a {:.0} nm box, height {:.0} nm; √(2Rδ) = {:.0} nm; {} steps;          the cost is the {n} whole curves'{}",
+        "{}; {}; {:.0} tubes in a {:.0} nm box, height {:.0} nm; √(2Rδ) = {:.0} nm; {} steps; \
+         the cost is the {n} whole curves'{}",
         loads.as_deref().map_or(String::new(), per_turf),
         estimate.as_ref().map_or(String::new(), interval),
         first.map_or(f64::NAN, |s| s.tubes),
@@ -403,7 +404,7 @@ fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> [Row; 2] {
         problem,
         &fidelity,
         loads.map(|_| reference),
-        (f64::NAN, "— (the reference)"),
+        (f64::NAN, "the reference"),
         cost,
         note,
     );
