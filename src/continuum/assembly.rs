@@ -9,6 +9,7 @@
 
 use super::contact::Contact;
 use super::element::{self, Geometry, Kinematics, StepContext};
+use super::material::ellipticity::{self, AcousticMinimum};
 use super::material::{Material, Voigt};
 use super::mesh::Mesh;
 use super::FeError;
@@ -110,6 +111,51 @@ impl Solid {
                 Ok(element::cauchy(&s, &r.stress, self.kinematics))
             })
             .collect()
+    }
+}
+
+/// The element whose state is least elliptic ([`ellipticity`]): its index, reference centroid
+/// (R, Z) and the acoustic minimum there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeastElliptic {
+    /// element index
+    pub element: usize,
+    /// reference centroid (R, Z), nm
+    pub centroid: [f64; 2],
+    /// the least in-plane acoustic eigenvalue and its normal
+    pub minimum: AcousticMinimum,
+}
+
+impl Solid {
+    /// The element of least in-plane acoustic stiffness under displacements `u` (the
+    /// instantaneous response, history as given), normals every 5°; `None` without elements.
+    pub fn least_elliptic(
+        &self,
+        u: &[f64],
+        history: &[f64],
+    ) -> Result<Option<LeastElliptic>, FeError> {
+        let h = self.history_len();
+        let found = self
+            .elements
+            .par_iter()
+            .enumerate()
+            .map(|(e, g)| {
+                let s = element::strain(g, &self.local(g, u), self.kinematics);
+                let r = self
+                    .material
+                    .response(&s.c, &history[e * h..(e + 1) * h], 0.0)
+                    .map_err(|source| element::ElementError::Material { element: e, source })?;
+                let z = g.nodes.iter().map(|&n| self.nodes[n][1]).sum::<f64>() / 3.0;
+                Ok(LeastElliptic {
+                    element: e,
+                    centroid: [g.r_c, z],
+                    minimum: ellipticity::in_plane_minimum(&r, s.f, 36),
+                })
+            })
+            .collect::<Result<Vec<_>, FeError>>()?;
+        Ok(found
+            .into_iter()
+            .min_by(|a, b| a.minimum.eigenvalue.total_cmp(&b.minimum.eigenvalue)))
     }
 }
 

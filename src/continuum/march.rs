@@ -289,9 +289,28 @@ impl<'a> March<'a> {
         match stop {
             None => Ok(self.result),
             Some(why) => {
+                let why = why + &self.localisation_note();
                 self.result.failure = Some(why);
                 Err(FeError::Stopped(Box::new(self.result)))
             }
+        }
+    }
+
+    /// Why a stopped march may have stopped for good: a material state at the last converged
+    /// increment that is not strongly elliptic ([`crate::continuum::material::ellipticity`]).
+    /// Empty when every element is elliptic (or the check itself fails).
+    fn localisation_note(&self) -> String {
+        let n = self.solid.dofs();
+        match self.solid.least_elliptic(&self.u[..n], &self.history) {
+            Ok(Some(l)) if l.minimum.eigenvalue <= 0.0 => format!(
+                "; at the last converged increment the material is not elliptic at element {} \
+                 (reference centroid r = {:.1} nm, z = {:.1} nm; least acoustic eigenvalue \
+                 {:.3e} GPa, band normal {:.0}° from the axis): a band can localise there and a \
+                 local continuum has no length to set its width, so no mesh-independent answer \
+                 exists beyond this depth with this material",
+                l.element, l.centroid[0], l.centroid[1], l.minimum.eigenvalue, l.minimum.normal_deg
+            ),
+            _ => String::new(),
         }
     }
 

@@ -12,6 +12,7 @@ mod continuum_berkovich_foam;
 mod continuum_hertz;
 mod continuum_homogeneous;
 mod continuum_load_frame;
+mod continuum_localisation;
 mod continuum_stick;
 mod discrete_compression;
 mod discrete_ensemble;
