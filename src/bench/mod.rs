@@ -140,6 +140,9 @@ pub enum BenchError {
         /// the curve's deepest point, nm
         end: f64,
     },
+    /// a card fit failed
+    #[error(transparent)]
+    Fit(#[from] crate::homogenize::fit_hyperfoam::FitError),
     /// an error with a note on the run it came from
     #[error("{error}; {note}")]
     Noted {

@@ -4,7 +4,9 @@
 //! hyperfoam card homogenised from the flat-platen compression of one of them (seed 5.3; finite
 //! strain, no adhesion) — with the sphere's tips free to slide (frictionless) and held where
 //! they touch (`compression.sphere_tangential` / `indenter.tangential = "stick"`), the same
-//! contact in both fidelities: the loads at fixed depths, the card's error and the costs.
+//! contact in both fidelities: the loads at fixed depths, the card's error and the costs. With
+//! held tips the FE also runs on the transversely isotropic card of the same turf (its lateral
+//! and shear RVE tests, docs/homogenize.md).
 
 use super::ladder::{failed_row, ChainRun};
 use super::{BenchError, Cost, Row};
@@ -136,14 +138,94 @@ fn missing(spec: &TurfIndentSpec, what: &'static str) -> BenchError {
     }
 }
 
-/// The chain scene with the FE indenter's tangential contact `tip`.
-fn chain_scene(spec: &TurfIndentSpec, tip: Tip) -> Result<String, BenchError> {
+/// The chain scene with the FE indenter's tangential contact `tip`; with a card file `card`,
+/// its FE alone on that card (no `[turf]`, `[compression]` or `[homogenize]`).
+fn chain_scene(spec: &TurfIndentSpec, tip: Tip, card: Option<&Path>) -> Result<String, BenchError> {
+    use toml::Value;
     let mut doc = parse(spec)?;
-    let Some(toml::Value::Table(i)) = doc.get_mut("indenter") else {
+    let Some(Value::Table(i)) = doc.get_mut("indenter") else {
         return Err(missing(spec, "[indenter]"));
     };
-    i.insert("tangential".into(), toml::Value::String(tip.key().into()));
+    i.insert("tangential".into(), Value::String(tip.key().into()));
+    if let Some(path) = card {
+        let Some(Value::Table(m)) = doc.get_mut("material") else {
+            return Err(missing(spec, "[material]"));
+        };
+        m.insert("card".into(), Value::String(path.display().to_string()));
+        doc.retain(|k, _| !matches!(k, "turf" | "compression" | "homogenize"));
+    }
     Ok(toml::to_string(&doc)?)
+}
+
+/// The transversely isotropic card of the scene's turf (docs/homogenize.md): its lateral and
+/// longitudinal-shear RVE tests (30 steps to 30 %, `<name>_lateral`, `<name>_shear`) and the
+/// flat compression's loading curve in `chain`, one matrix and one fibre term fitted up to the
+/// compression's strain; the card written to `<name>_transverse/`. Returns its path and the
+/// cost of the two RVE tests.
+fn transverse_card(
+    spec: &TurfIndentSpec,
+    out: &Path,
+    chain: &ChainRun,
+) -> Result<(std::path::PathBuf, Cost), BenchError> {
+    use crate::homogenize::transverse_foam::{fit_transverse, TransverseFitParams, CARD_JSON};
+    use toml::Value;
+    let mut curves = Vec::new();
+    let mut cost = Cost {
+        wall_s: 0.0,
+        cpu_s: Some(0.0),
+    };
+    for mode in ["lateral", "shear"] {
+        let mut doc = parse(spec)?;
+        doc.retain(|k, _| matches!(k, "scene" | "turf" | "compression"));
+        let mut k = toml::Table::new();
+        k.insert("mode".into(), Value::String(mode.into()));
+        k.insert("to".into(), Value::Float(0.3));
+        k.insert("steps".into(), Value::Integer(30));
+        k.insert("unload".into(), Value::Boolean(false));
+        k.insert("solver".into(), Value::String("newton".into()));
+        doc.insert("compression".into(), Value::Table(k));
+        let mut o = toml::Table::new();
+        o.insert("plots".into(), Value::Boolean(false));
+        doc.insert("output".into(), Value::Table(o));
+        let run = ChainRun::new(
+            &toml::to_string(&doc)?,
+            &format!("{} ({mode} RVE test)", spec.name),
+            out.join(format!("{}_{mode}", spec.name)),
+            false,
+            false,
+        )?;
+        let c = run.cost(Stage::Discrete)?;
+        cost.wall_s += c.wall_s;
+        cost.cpu_s = cost.cpu_s.zip(c.cpu_s).map(|(a, b)| a + b);
+        let file = run.dir.join(format!("discrete_rve_{mode}_loading.csv"));
+        curves.push(crate::homogenize::read_curve(&file)?);
+    }
+    let axial = crate::homogenize::read_curve(&chain.dir.join("stress_strain_loading.csv"))?;
+    let strain_max = axial.strain.iter().copied().fold(0.0, f64::max);
+    let fit = fit_transverse(
+        &axial,
+        &curves[0],
+        &curves[1],
+        &TransverseFitParams {
+            matrix_terms: 1,
+            fibre_terms: 1,
+            strain_max,
+        },
+    )?;
+    let dir = out.join(format!("{}_transverse", spec.name));
+    std::fs::create_dir_all(&dir).map_err(|error| BenchError::Io {
+        path: dir.clone(),
+        error,
+    })?;
+    let file = dir.join(CARD_JSON);
+    let sources = [
+        "stress_strain_loading.csv",
+        "discrete_rve_lateral_loading.csv",
+        "discrete_rve_shear_loading.csv",
+    ]
+    .map(String::from);
+    crate::report::write_json(&file, &fit.card_json(&sources))?;
+    Ok((file, cost))
 }
 
 /// The discrete sphere scene derived from the chain scene: its `[scene]` (with `seed`),
@@ -229,11 +311,31 @@ impl FeRun {
     }
 }
 
-/// One tip condition: the discrete sphere on every turf and the FE on the card.
+/// The held FE on the transversely isotropic card of the turf of `chain` ([`transverse_card`]),
+/// alone in `<name>_transverse/`, and the cost of the card's RVE tests.
+fn transverse_fe(
+    spec: &TurfIndentSpec,
+    out: &Path,
+    chain: &ChainRun,
+) -> Result<(FeRun, Cost), BenchError> {
+    let (card, making) = transverse_card(spec, out, chain)?;
+    let run = ChainRun::new(
+        &chain_scene(spec, Tip::Held, Some(&card))?,
+        &format!("{} (transversely isotropic card)", spec.name),
+        out.join(format!("{}_transverse", spec.name)),
+        false,
+        true,
+    )?;
+    Ok((FeRun::of(&run)?, making))
+}
+
+/// One tip condition: the discrete sphere on every turf and the FE on the card (and, held, on
+/// the transversely isotropic card).
 struct TipRuns {
     tip: Tip,
     spheres: Vec<SphereRun>,
     fe: FeRun,
+    fe_transverse: Option<Result<FeRun, BenchError>>,
 }
 
 /// Everything the rung measured.
@@ -249,6 +351,9 @@ struct TurfIndent {
     card_seed: u64,
     /// steps of the discrete sphere's drive
     steps: usize,
+    /// the lateral and shear RVE tests that, with the flat compression, make the transversely
+    /// isotropic card
+    transverse_making: Cost,
     tips: Vec<TipRuns>,
 }
 
@@ -257,7 +362,7 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchErr
     let mut chains = Vec::new();
     for tip in Tip::ALL {
         let chain = ChainRun::new(
-            &chain_scene(spec, tip)?,
+            &chain_scene(spec, tip, None)?,
             spec.name,
             dir.clone(),
             false,
@@ -292,8 +397,16 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchErr
         card_cached: chain.cached(Stage::Discrete),
         card_seed: scene.scene.seed,
         steps: spec.sphere_steps,
+        transverse_making: Cost {
+            wall_s: 0.0,
+            cpu_s: None,
+        },
         tips: Vec::new(),
     };
+    let mut fe_transverse = Some(transverse_fe(spec, out, chain).map(|(fe, making)| {
+        t.transverse_making = making;
+        fe
+    }));
     for (tip, fe, _) in chains {
         let mut spheres = Vec::new();
         for &s in spec.seeds {
@@ -317,7 +430,13 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchErr
                 cached: run.cached(Stage::Discrete),
             });
         }
-        t.tips.push(TipRuns { tip, spheres, fe });
+        let fe_transverse = fe_transverse.take().filter(|_| tip == Tip::Held);
+        t.tips.push(TipRuns {
+            tip,
+            spheres,
+            fe,
+            fe_transverse,
+        });
     }
     Ok(t)
 }
@@ -355,8 +474,9 @@ fn at(c: &(Vec<f64>, Vec<f64>), d: f64) -> Result<f64, BenchError> {
     })
 }
 
-/// The two rows of one tip condition at depth `d`: the turfs' mean and the FE on the card.
-fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> [Row; 2] {
+/// The rows of one tip condition at depth `d`: the turfs' mean and the FE on the card (and, held,
+/// on the transversely isotropic card).
+fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> Vec<Row> {
     let name = tips.tip.name();
     let loads: Result<Vec<f64>, BenchError> =
         tips.spheres.iter().map(|s| at(&s.curve, d)).collect();
@@ -408,35 +528,109 @@ fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> [Row; 2] {
         cost,
         note,
     );
-    let fe = &tips.fe;
+    let reference = Reference {
+        mean: reference,
+        interval: estimate.as_ref().and_then(|e| e.ci95),
+        source: &fidelity,
+        turf_wall_s: cost.wall_s / n.max(1) as f64,
+    };
+    let mut rows = vec![
+        discrete,
+        fe_row(
+            t,
+            &tips.fe,
+            &format!("FE on the card, {name}"),
+            &reference,
+            problem,
+            d,
+            None,
+        ),
+    ];
+    if let Some(fe) = &tips.fe_transverse {
+        let label = format!("FE on the transversely isotropic card, {name}");
+        let fe = match fe {
+            Ok(fe) => fe,
+            Err(e) => {
+                let failed = BenchError::Chain {
+                    file: label.clone(),
+                    failure: e.to_string(),
+                };
+                rows.push(Row::new(
+                    problem,
+                    &label,
+                    Err(failed),
+                    (reference.mean, reference.source),
+                    Cost {
+                        wall_s: 0.0,
+                        cpu_s: None,
+                    },
+                    String::new(),
+                ));
+                return rows;
+            }
+        };
+        let making = format!(
+            "the transversely isotropic card of the same turf (its flat compression and its \
+             lateral and shear RVE tests, {:.1} s{})",
+            t.transverse_making.wall_s,
+            if t.card_cached { CACHED } else { "" }
+        );
+        rows.push(fe_row(t, fe, &label, &reference, problem, d, Some(making)));
+    }
+    rows
+}
+
+/// What an FE row is judged against: the turfs' mean load, its 95 % interval, the discrete row
+/// it comes from and one turf's sphere run's wall time.
+struct Reference<'a> {
+    mean: f64,
+    interval: Option<(f64, f64)>,
+    source: &'a str,
+    turf_wall_s: f64,
+}
+
+/// The row of the FE run `fe` (labelled `label`) at depth `d` against `reference`; `making`
+/// says how its card was made when it is not the isotropic card of the flat compression.
+fn fe_row(
+    t: &TurfIndent,
+    fe: &FeRun,
+    label: &str,
+    reference: &Reference,
+    problem: &str,
+    d: f64,
+    making: Option<String>,
+) -> Row {
     let answer = at(&fe.curve, d);
-    let inside = match (&answer, estimate.as_ref().and_then(|e| e.ci95)) {
+    let inside = match (&answer, reference.interval) {
         (Ok(a), Some((lo, hi))) if (lo..=hi).contains(a) => "inside the turfs' 95 % interval; ",
         (Ok(_), Some(_)) => "outside the turfs' 95 % interval; ",
         _ => "",
     };
-    let mean_wall = cost.wall_s / n.max(1) as f64;
-    let card = Row::new(
+    let making = making.unwrap_or_else(|| {
+        format!(
+            "card fitted to the seed-{} turf's flat compression (rms {:.1} %)",
+            t.card_seed,
+            100.0 * t.fit_rms
+        )
+    });
+    let w = reference.turf_wall_s;
+    Row::new(
         problem,
-        &format!("FE on the card, {name} (finite strain, no adhesion)"),
+        &format!("{label} (finite strain, no adhesion)"),
         answer.map_err(|e| BenchError::Noted {
             error: Box::new(e),
             note: fe.note.clone(),
         }),
-        (reference, &fidelity),
+        (reference.mean, reference.source),
         fe.cost,
         format!(
-            "{inside}card fitted to the seed-{} turf's flat compression (rms {:.1} %); {}; \
-             {:.0}× faster than a turf's sphere run, {:.2}× with the card's making \
-             (compression + fit {:.1} s{})",
-            t.card_seed,
-            100.0 * t.fit_rms,
+            "{inside}{making}; {}; {:.0}× faster than a turf's sphere run, {:.2}× with the \
+             flat compression and fit (compression + fit {:.1} s{})",
             fe.note,
-            mean_wall / fe.cost.wall_s.max(1e-9),
-            mean_wall / (fe.cost.wall_s + t.card_making.wall_s).max(1e-9),
+            w / fe.cost.wall_s.max(1e-9),
+            w / (fe.cost.wall_s + t.card_making.wall_s).max(1e-9),
             t.card_making.wall_s,
             if t.card_cached { CACHED } else { "" }
         ),
-    );
-    [discrete, card]
+    )
 }

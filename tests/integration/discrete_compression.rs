@@ -644,7 +644,8 @@ fn the_pipeline_writes_the_sphere_load_depth_curve() {
 
 /// The turf indentation rung of `turf bench --turf-indent` on the 4-tube turf: its flat
 /// compression gives the card, a 300 nm sphere indents the tubes (two realisations) and the
-/// card to the same depth, with frictionless and with held tips. Each discrete row carries the
+/// card to the same depth, with frictionless and with held tips (held, also the transversely
+/// isotropic card from the turf's lateral and shear tests). Each discrete row carries the
 /// turfs' mean load and is the reference; each FE row is judged against the discrete mean of
 /// its own tip condition and either carries a finite error or says why the FE stopped —
 /// without losing the discrete rows. (This turf's flat curve is a step: the four tubes buckle
@@ -686,10 +687,10 @@ increments = 20
     };
     let dir = std::env::temp_dir().join(format!("turf-rung-{}", std::process::id()));
     let rows = turf::bench::turf_indent::turf_indent_rows(&dir, &spec);
-    // one depth × (held, frictionless) × (discrete mean, FE)
-    assert_eq!(rows.len(), 4, "{rows:?}");
-    for pair in rows.chunks(2) {
-        let (discrete, fe) = (&pair[0], &pair[1]);
+    // one depth: held (discrete mean, FE on the card, FE on the transversely isotropic card),
+    // then frictionless (discrete mean, FE on the card)
+    assert_eq!(rows.len(), 5, "{rows:?}");
+    for (discrete, fe) in [(0, 1), (0, 2), (3, 4)].map(|(a, b)| (&rows[a], &rows[b])) {
         assert!(discrete.answer.is_some_and(|p| p > 0.0), "{discrete:?}");
         assert!(discrete.note.contains("95 % interval"), "{discrete:?}");
         assert_eq!(
@@ -701,6 +702,7 @@ increments = 20
             "{fe:?}"
         );
     }
-    assert!(rows[0].fidelity.contains("held") && rows[2].fidelity.contains("frictionless"));
+    assert!(rows[0].fidelity.contains("held") && rows[3].fidelity.contains("frictionless"));
+    assert!(rows[2].fidelity.contains("transversely isotropic"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
