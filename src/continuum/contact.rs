@@ -349,9 +349,12 @@ impl Contact<'_> {
                 continue;
             }
             let mut pt = PointTerms::of_law(&gp, (phi, p, k));
+            let mut hold_d = None;
             if let Some((s, a)) = held {
                 let y = surface_point(x, x_ref, xi, false);
-                pt.add(&s.eval(a, [y[0], y[1] + depth]));
+                let t = s.eval(a, [y[0], y[1] + depth]);
+                hold_d = Some(t.d);
+                pt.add(&t);
             }
             let mut dphi = [0.0; 4];
             let mut d2phi = [[0.0; 4]; 4];
@@ -371,7 +374,11 @@ impl Contact<'_> {
             }
             let phi = pt.phi;
             out.energy += c * len * r * phi;
-            out.load += c * len * r * pt.d;
+            // P = ∂Π/∂δ: the law's share −p n_z, the hold's ∂e_t/∂δ
+            out.load -= c * len * r * p * gp.normal[1];
+            if let Some(d) = hold_d {
+                out.load += c * len * r * d;
+            }
             out.load_stiffness += c * len * r * pt.dd;
             for s in 0..4 {
                 let (a, i) = (s / 2, s % 2);
