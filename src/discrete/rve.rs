@@ -47,6 +47,15 @@ pub enum RveLoading {
     Shear,
 }
 
+/// The equilibria an RVE test reached, and why it stopped early if it did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RveRun {
+    /// every step reached, from the relaxed state (step 0)
+    pub records: Vec<RveRecord>,
+    /// why the drive stopped before the end of its path (the steps before are kept)
+    pub stopped: Option<String>,
+}
+
 /// One equilibrium of an RVE test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RveRecord {
@@ -100,7 +109,7 @@ pub fn drive_rve(
     params: &CompressionParams,
     solver: &StaticSolver,
     observe: &mut dyn FnMut(&RveRecord),
-) -> Result<Vec<RveRecord>, DriveError> {
+) -> Result<RveRun, DriveError> {
     params.check()?;
     sys.model.platen = None;
     let reference = reference(sys, x, loading)?;
@@ -178,7 +187,7 @@ fn run(
     solver: &StaticSolver,
     r: &Reference,
     observe: &mut dyn FnMut(&RveRecord),
-) -> Result<Vec<RveRecord>, DriveError> {
+) -> Result<RveRun, DriveError> {
     let mut records: Vec<RveRecord> = Vec::new();
     let mut last = 0.0;
     for (step, (strain, out)) in strain_path(params).into_iter().enumerate() {
@@ -193,6 +202,21 @@ fn run(
         };
         last = strain;
         let state = sys.state(x);
+        if state.min_gap < 0.0 {
+            // the equilibrium the solver found has tubes through each other: the box or the
+            // tips were driven faster than the tubes could get out of each other's way
+            let stopped = format!(
+                "step {step} (strain {strain:.3}): tubes interpenetrate (smallest surface gap \
+                 {:.3} nm), so this state and those beyond it are unphysical; the {} steps \
+                 before it are kept",
+                state.min_gap,
+                records.len()
+            );
+            return Ok(RveRun {
+                records,
+                stopped: Some(stopped),
+            });
+        }
         let tip_drop = r
             .tips
             .iter()
@@ -212,7 +236,10 @@ fn run(
         observe(&rec);
         records.push(rec);
     }
-    Ok(records)
+    Ok(RveRun {
+        records,
+        stopped: None,
+    })
 }
 
 /// Lateral step from strain `from` to `to`: the period L_x⁰(1 − ε), the clamps moved with

@@ -74,21 +74,39 @@ pub(super) fn run(
             r.step, r.strain, r.stress
         ))
     };
-    let records = drive_rve(&mut sys, &mut x, loading, &params, &solver, &mut observe)
+    let run = drive_rve(&mut sys, &mut x, loading, &params, &solver, &mut observe)
         .map_err(|e| failed(format!("{name} test: {e}")))?;
+    let records = run.records;
+    // the loading records reached (all of them when the drive went to the end)
+    let loaded = records.len().min(k.steps + 1);
+    if loaded < 2 {
+        return Err(failed(format!(
+            "{name} test: {}",
+            run.stopped.as_deref().unwrap_or("no step reached")
+        )));
+    }
 
     let mut values = BTreeMap::new();
     let mut put = |key: &str, v: f64| {
         values.insert(format!("rve_{key}"), v);
     };
-    let peak = &records[k.steps];
+    let peak = &records[loaded - 1];
     let first = &records[1];
     put("stress_at_peak_GPa", peak.stress);
     put("secant_modulus_first_step_GPa", first.stress / first.strain);
-    put("work_error_rel", work_error(&records[..=k.steps], volume));
+    put("work_error_rel", work_error(&records[..loaded], volume));
     put("tip_drop_at_peak_nm", peak.tip_drop);
     put("contacts_at_peak", peak.state.contacts as f64);
     put("relaxed_contacts", relaxed.state.contacts as f64);
+    // the closest two tubes' surfaces came over the whole drive (negative: interpenetration);
+    // absent when no pair was ever within the van der Waals cutoff
+    let closest = records
+        .iter()
+        .map(|r| r.state.min_gap)
+        .fold(relaxed.state.min_gap, f64::min);
+    if closest.is_finite() {
+        put("min_gap_nm", closest);
+    }
     put("volume_nm3", volume);
     put(
         "wall_time_s",
@@ -109,12 +127,16 @@ pub(super) fn run(
             (format!("rve_{name}"), table(&records)),
             (
                 format!("rve_{name}_loading"),
-                loading_table(&records[..=k.steps]),
+                loading_table(&records[..loaded]),
             ),
         ],
         evaluations: evaluations as u64,
         files: Vec::new(),
-        warnings: Vec::new(),
+        warnings: run
+            .stopped
+            .map(|why| format!("{name} test stopped early at {why}"))
+            .into_iter()
+            .collect(),
         handoff: None,
     })
 }

@@ -26,7 +26,9 @@ fn equilibrium(loading: RveLoading, strain: f64, steps: usize) -> (RveRecord, f6
         steps,
         unload: false,
     };
-    let recs = drive_rve(&mut sys, &mut x, loading, &params, &newton(), &mut |_| {}).unwrap();
+    let run = drive_rve(&mut sys, &mut x, loading, &params, &newton(), &mut |_| {}).unwrap();
+    assert_eq!(run.stopped, None);
+    let recs = run.records;
     (*recs.last().unwrap(), volume)
 }
 
@@ -51,4 +53,33 @@ fn the_lateral_and_shear_stresses_are_the_derivatives_of_the_equilibrium_energy(
             rec.stress
         );
     }
+}
+
+/// Squeezed laterally far beyond what the tubes can make room for (90 % in three steps), the
+/// drive stops at the first equilibrium with tubes through each other and keeps the steps
+/// before it; every kept state has its tubes apart.
+#[test]
+fn a_lateral_drive_that_pushes_tubes_through_each_other_stops_and_keeps_the_steps_before() {
+    let (mut sys, mut x) = relaxed_system();
+    let params = CompressionParams {
+        strain_max: 0.9,
+        steps: 3,
+        unload: false,
+    };
+    let run = drive_rve(
+        &mut sys,
+        &mut x,
+        RveLoading::Lateral,
+        &params,
+        &newton(),
+        &mut |_| {},
+    )
+    .unwrap();
+    let why = run
+        .stopped
+        .expect("the tubes cannot fit in a tenth of the box");
+    eprintln!("{why}; {} steps kept", run.records.len());
+    assert!(why.contains("interpenetrate"), "{why}");
+    assert!(run.records.len() < 4);
+    assert!(run.records.iter().all(|r| !(r.state.min_gap < 0.0)));
 }
