@@ -693,6 +693,15 @@ fn realisation_values(
     if relaxed.state.min_gap.is_finite() {
         put("relaxed_min_gap_nm", relaxed.state.min_gap);
     }
+    // the closest two tube surfaces came along the drive (negative: into each other's van der
+    // Waals wall; beyond about −1 nm, pushed into each other: docs/discrete-compression.md)
+    let closest = records
+        .iter()
+        .map(|r| r.state.min_gap)
+        .fold(f64::INFINITY, f64::min);
+    if closest.is_finite() {
+        put("compression_min_gap_nm", closest);
+    }
     put("relaxation_iterations", relaxed.cost.iterations as f64);
     put("wall_time_relaxation_s", relaxed.cost.seconds);
     put("turf_height_nm", records[0].height);
