@@ -21,7 +21,7 @@ use super::constraints::FixedDofs;
 use super::energy::EnergyTerm;
 use super::solve::{Evaluator, Info, SolveError};
 use crate::numerics::newton::{self, armijo, NewtonError, NewtonProblem, Trial};
-use crate::numerics::sparse::{SparseError, SparseSystem};
+use crate::numerics::sparse::{Pattern, SparseError, SparseSystem};
 
 /// Newton settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -346,10 +346,12 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
 
 /// The Hessian over the free coordinates as a sparse system: its lower triangle, then a
 /// diagonal that carries the Newton loop's shift. The map from the model's entries (full
-/// numbering, both triangles) to the system's values is kept while the model lists the same
-/// entries in the same order, so an iteration only copies values; when the list changes the
-/// map is rebuilt, and the sparse system keeps its symbolic factorisation if the compressed
-/// pattern is unchanged.
+/// numbering, both triangles) to the compressed values is kept while the model lists the same
+/// entries in the same order, so an iteration only sums values into their slots, in the
+/// model's order. When the list changes, the compressed pattern of the unchanged head of the
+/// list (the rods, whose entries never change, come before the contacts) is kept and only the
+/// rest is sorted and merged into it; the sparse system keeps its symbolic factorisation if
+/// the compressed pattern is unchanged.
 struct FreeHessian<'a> {
     /// free number of each coordinate (usize::MAX: fixed)
     index: &'a [usize],
@@ -359,10 +361,14 @@ struct FreeHessian<'a> {
     entries: Vec<(usize, usize)>,
     /// for each entry, its slot in `values` (usize::MAX: dropped — fixed or upper triangle)
     slot: Vec<usize>,
-    /// the lower-triangle values, then the shift diagonal
+    /// slot of each free coordinate's diagonal, where the shift goes
+    diagonal: Vec<usize>,
+    /// the compressed pattern of the kept entries among the first `head_len` of the list
+    head: Option<Pattern>,
+    head_len: usize,
+    /// the compressed values of the Hessian, and of the shifted one (scratch)
     values: Vec<f64>,
-    /// entries before the shift diagonal
-    unshifted: usize,
+    shifted: Vec<f64>,
     /// largest |diagonal entry| of the Hessian itself
     diag_max: f64,
     system: Option<SparseSystem>,
@@ -375,8 +381,11 @@ impl<'a> FreeHessian<'a> {
             free,
             entries: Vec::new(),
             slot: Vec::new(),
+            diagonal: Vec::new(),
+            head: None,
+            head_len: 0,
             values: Vec::new(),
-            unshifted: 0,
+            shifted: Vec::new(),
             diag_max: 0.0,
             system: None,
         }
@@ -384,19 +393,19 @@ impl<'a> FreeHessian<'a> {
 
     /// Take the model's entries `trip`.
     fn load(&mut self, trip: &[(usize, usize, f64)]) -> Result<(), SparseError> {
-        let same = self.system.is_some()
-            && trip.len() == self.entries.len()
-            && trip
-                .iter()
-                .zip(&self.entries)
-                .all(|(t, e)| t.0 == e.0 && t.1 == e.1);
-        if !same {
-            self.remap(trip)?;
+        let changed = trip
+            .iter()
+            .zip(&self.entries)
+            .position(|(t, e)| t.0 != e.0 || t.1 != e.1)
+            .or((trip.len() != self.entries.len()).then(|| trip.len().min(self.entries.len())));
+        if let Some(first) = changed.or(self.system.is_none().then_some(0)) {
+            self.remap(trip, first)?;
         }
+        self.values.iter_mut().for_each(|v| *v = 0.0);
         let mut diag_max = 0.0_f64;
         for (t, &k) in trip.iter().zip(&self.slot) {
             if k != usize::MAX {
-                self.values[k] = t.2;
+                self.values[k] += t.2;
                 if t.0 == t.1 {
                     diag_max = diag_max.max(t.2.abs());
                 }
@@ -406,28 +415,49 @@ impl<'a> FreeHessian<'a> {
         Ok(())
     }
 
-    /// Rebuild the map and the system's positions for the entries of `trip`.
-    fn remap(&mut self, trip: &[(usize, usize, f64)]) -> Result<(), SparseError> {
+    /// The free lower-triangle positions of the entries of `trip`.
+    fn kept(&self, trip: &[(usize, usize, f64)]) -> Vec<(usize, usize)> {
+        trip.iter()
+            .map(|&(r, c, _)| (self.index[r], self.index[c]))
+            .filter(|&(ri, ci)| ri != usize::MAX && ci != usize::MAX && ri >= ci)
+            .collect()
+    }
+
+    /// Rebuild the map and the system's pattern for the entries of `trip`, which agree with
+    /// the last list up to entry `first`.
+    fn remap(&mut self, trip: &[(usize, usize, f64)], first: usize) -> Result<(), SparseError> {
+        if self.head.is_none() || first < self.head_len {
+            // the first list is the head; later the head shrinks to what stays the same
+            self.head_len = if self.head.is_none() {
+                trip.len()
+            } else {
+                first
+            };
+            self.head = Some(Pattern::new(self.free, &self.kept(&trip[..self.head_len]))?);
+        }
+        let head = self.head.as_ref().expect("head pattern just built");
+        let mut rest = self.kept(&trip[self.head_len..]);
+        rest.extend((0..self.free).map(|k| (k, k)));
+        let pattern = head.extended(&rest)?;
         self.entries.clear();
         self.entries.extend(trip.iter().map(|t| (t.0, t.1)));
         self.slot.clear();
-        let mut positions = Vec::with_capacity(trip.len() / 2 + self.free);
+        let mut slots = pattern.slots().iter();
         for &(r, c, _) in trip {
             let (ri, ci) = (self.index[r], self.index[c]);
-            if ri != usize::MAX && ci != usize::MAX && ri >= ci {
-                self.slot.push(positions.len());
-                positions.push((ri, ci));
-            } else {
-                self.slot.push(usize::MAX);
-            }
+            self.slot
+                .push(if ri != usize::MAX && ci != usize::MAX && ri >= ci {
+                    *slots.next().expect("one slot per kept entry")
+                } else {
+                    usize::MAX
+                });
         }
-        self.unshifted = positions.len();
-        positions.extend((0..self.free).map(|k| (k, k)));
-        self.values = vec![0.0; positions.len()];
+        self.diagonal = slots.copied().collect();
+        self.values = vec![0.0; pattern.nnz()];
         match &mut self.system {
-            Some(s) => s.set_positions(&positions),
+            Some(s) => s.set_pattern(pattern),
             None => {
-                self.system = Some(SparseSystem::new(self.free, &positions)?);
+                self.system = Some(SparseSystem::with_pattern(pattern));
                 Ok(())
             }
         }
@@ -435,11 +465,12 @@ impl<'a> FreeHessian<'a> {
 
     /// Solve (H + shift·I) p = rhs by Cholesky.
     fn solve_shifted(&mut self, shift: f64, rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
-        self.values[self.unshifted..]
-            .iter_mut()
-            .for_each(|v| *v = shift);
+        self.shifted.clone_from(&self.values);
+        for &d in &self.diagonal {
+            self.shifted[d] += shift;
+        }
         let system = self.system.as_mut().ok_or(SparseError::NoFactor)?;
-        system.solve_spd(&self.values, rhs)
+        system.solve_spd_compressed(&self.shifted, rhs)
     }
 }
 

@@ -63,14 +63,132 @@ enum Held {
     Lu,
 }
 
+/// A compressed-column pattern (rows sorted, duplicates merged) built from a list of entry
+/// positions, with the index in the compressed values of each listed entry.
+#[derive(Debug, Clone)]
+pub struct Pattern {
+    symbolic: SymbolicSparseColMat<usize>,
+    slot: Vec<usize>,
+}
+
+impl Pattern {
+    /// The pattern of an `n × n` matrix with entries at `positions`. A counting sort by column,
+    /// then a sort of each column's few rows: linear in the entries.
+    pub fn new(n: usize, positions: &[(usize, usize)]) -> Result<Self, SparseError> {
+        check_positions(n, positions)?;
+        // entries bucketed by column
+        let mut start = vec![0usize; n + 1];
+        for &(_, c) in positions {
+            start[c + 1] += 1;
+        }
+        for c in 0..n {
+            start[c + 1] += start[c];
+        }
+        let mut next = start.clone();
+        let mut order = vec![0usize; positions.len()];
+        for (k, &(_, c)) in positions.iter().enumerate() {
+            order[next[c]] = k;
+            next[c] += 1;
+        }
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = Vec::with_capacity(positions.len());
+        let mut slot = vec![0usize; positions.len()];
+        for c in 0..n {
+            let bucket = &mut order[start[c]..start[c + 1]];
+            bucket.sort_unstable_by_key(|&k| positions[k].0);
+            let mut last = None;
+            for &k in bucket.iter() {
+                let row = positions[k].0;
+                if last != Some(row) {
+                    row_idx.push(row);
+                    last = Some(row);
+                }
+                slot[k] = row_idx.len() - 1;
+            }
+            col_ptr[c + 1] = row_idx.len();
+        }
+        Ok(Pattern {
+            symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+            slot,
+        })
+    }
+
+    /// The pattern of this pattern's entries followed by `more`: only `more` is sorted, then
+    /// merged column by column with the compressed pattern already built (linear in the
+    /// entries). The same pattern and slots as [`Pattern::new`] of the whole list.
+    pub fn extended(&self, more: &[(usize, usize)]) -> Result<Self, SparseError> {
+        let n = self.dim();
+        let tail = Pattern::new(n, more)?;
+        let (a, b) = (&self.symbolic, &tail.symbolic);
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = Vec::with_capacity(a.row_idx().len() + b.row_idx().len());
+        // index in the merged pattern of each compressed entry of `self` and of `tail`
+        let mut to_a = vec![0usize; a.row_idx().len()];
+        let mut to_b = vec![0usize; b.row_idx().len()];
+        for c in 0..n {
+            let (mut i, end_i) = (a.col_ptr()[c], a.col_ptr()[c + 1]);
+            let (mut j, end_j) = (b.col_ptr()[c], b.col_ptr()[c + 1]);
+            while i < end_i || j < end_j {
+                let ra = if i < end_i {
+                    a.row_idx()[i]
+                } else {
+                    usize::MAX
+                };
+                let rb = if j < end_j {
+                    b.row_idx()[j]
+                } else {
+                    usize::MAX
+                };
+                let row = ra.min(rb);
+                if ra == row {
+                    to_a[i] = row_idx.len();
+                    i += 1;
+                }
+                if rb == row {
+                    to_b[j] = row_idx.len();
+                    j += 1;
+                }
+                row_idx.push(row);
+            }
+            col_ptr[c + 1] = row_idx.len();
+        }
+        let slot = (self.slot.iter().map(|&s| to_a[s]))
+            .chain(tail.slot.iter().map(|&s| to_b[s]))
+            .collect();
+        Ok(Pattern {
+            symbolic: SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
+            slot,
+        })
+    }
+
+    /// Number of rows (and columns).
+    pub fn dim(&self) -> usize {
+        self.symbolic.ncols()
+    }
+
+    /// Number of compressed entries.
+    pub fn nnz(&self) -> usize {
+        self.symbolic.row_idx().len()
+    }
+
+    /// For each listed entry, its index in the compressed values.
+    pub fn slots(&self) -> &[usize] {
+        &self.slot
+    }
+
+    /// Whether the two compress to the same pattern (whatever their lists of entries).
+    fn same_compressed(&self, other: &Pattern) -> bool {
+        self.symbolic.col_ptr() == other.symbolic.col_ptr()
+            && self.symbolic.row_idx() == other.symbolic.row_idx()
+    }
+}
+
 /// A fixed sparsity pattern with its cached symbolic factorisations, the storage of its numeric
 /// factorisations and the last of them.
 pub struct SparseSystem {
     n: usize,
-    /// the matrix's compressed-column pattern (rows sorted, duplicates merged)
-    symbolic: SymbolicSparseColMat<usize>,
-    /// for each given entry, its index in the compressed values
-    slot: Vec<usize>,
+    /// the matrix's compressed-column pattern, and the slot of each given entry
+    pattern: Pattern,
     /// the compressed values of the last matrix
     values: Vec<f64>,
     llt: Option<SymbolicCholesky<usize>>,
@@ -85,39 +203,48 @@ impl SparseSystem {
     /// Pattern of an `n × n` matrix from the positions of its entries, in the order the values
     /// will later be given.
     pub fn new(n: usize, positions: &[(usize, usize)]) -> Result<Self, SparseError> {
-        let (symbolic, slot) = compress(n, positions)?;
-        let nnz = symbolic.row_idx().len();
-        Ok(SparseSystem {
-            n,
-            symbolic,
-            slot,
-            values: vec![0.0; nnz],
+        Ok(SparseSystem::with_pattern(Pattern::new(n, positions)?))
+    }
+
+    /// The system of a pattern built beforehand.
+    pub fn with_pattern(pattern: Pattern) -> Self {
+        SparseSystem {
+            n: pattern.dim(),
+            values: vec![0.0; pattern.nnz()],
+            pattern,
             llt: None,
             llt_values: Vec::new(),
             lu: None,
             lu_numeric: NumericLu::new(),
             held: Held::None,
             workspace: MemBuffer::new(StackReq::empty()),
-        })
+        }
     }
 
-    /// Give the entries in new positions (same `n`). When they compress to the same pattern
-    /// as before (entries only reordered, duplicated or merged differently), the symbolic
-    /// factorisations are kept; otherwise they are rebuilt at the next factorisation. The
-    /// workspace is kept either way.
-    pub fn set_positions(&mut self, positions: &[(usize, usize)]) -> Result<(), SparseError> {
-        let (symbolic, slot) = compress(self.n, positions)?;
-        self.slot = slot;
+    /// Give the entries in new positions, as a pattern of the same dimension. When it
+    /// compresses to the same pattern as before (entries only reordered, duplicated or merged
+    /// differently), the symbolic factorisations are kept; otherwise they are rebuilt at the
+    /// next factorisation. The workspace is kept either way.
+    pub fn set_pattern(&mut self, pattern: Pattern) -> Result<(), SparseError> {
+        if pattern.dim() != self.n {
+            return Err(SparseError::Length {
+                expected: self.n,
+                got: pattern.dim(),
+            });
+        }
         self.held = Held::None;
-        let same = symbolic.col_ptr() == self.symbolic.col_ptr()
-            && symbolic.row_idx() == self.symbolic.row_idx();
-        if !same {
-            self.values = vec![0.0; symbolic.row_idx().len()];
-            self.symbolic = symbolic;
+        if !pattern.same_compressed(&self.pattern) {
+            self.values = vec![0.0; pattern.nnz()];
             self.llt = None;
             self.lu = None;
         }
+        self.pattern = pattern;
         Ok(())
+    }
+
+    /// The pattern the values are given for.
+    pub fn pattern(&self) -> &Pattern {
+        &self.pattern
     }
 
     /// Number of unknowns.
@@ -125,12 +252,13 @@ impl SparseSystem {
         self.n
     }
 
-    /// Sum the given values into the compressed matrix.
+    /// Sum the given values, one per listed entry, into the compressed matrix.
     fn load(&mut self, values: &[f64]) -> Result<(), SparseError> {
         self.held = Held::None;
-        if values.len() != self.slot.len() {
+        let slot = &self.pattern.slot;
+        if values.len() != slot.len() {
             return Err(SparseError::Length {
-                expected: self.slot.len(),
+                expected: slot.len(),
                 got: values.len(),
             });
         }
@@ -138,9 +266,25 @@ impl SparseSystem {
             return Err(SparseError::NonFinite);
         }
         self.values.iter_mut().for_each(|v| *v = 0.0);
-        for (&s, &v) in self.slot.iter().zip(values) {
+        for (&s, &v) in slot.iter().zip(values) {
             self.values[s] += v;
         }
+        Ok(())
+    }
+
+    /// Take the compressed values (in the pattern's order, duplicates already summed).
+    fn load_compressed(&mut self, values: &[f64]) -> Result<(), SparseError> {
+        self.held = Held::None;
+        if values.len() != self.values.len() {
+            return Err(SparseError::Length {
+                expected: self.values.len(),
+                got: values.len(),
+            });
+        }
+        if !values.iter().all(|v| v.is_finite()) {
+            return Err(SparseError::NonFinite);
+        }
+        self.values.copy_from_slice(values);
         Ok(())
     }
 
@@ -157,9 +301,14 @@ impl SparseSystem {
     /// factorisation is kept for [`SparseSystem::solve`].
     pub fn factor_spd(&mut self, values: &[f64]) -> Result<(), SparseError> {
         self.load(values)?;
+        self.factor_llt()
+    }
+
+    /// Cholesky of the loaded values.
+    fn factor_llt(&mut self) -> Result<(), SparseError> {
         if self.llt.is_none() {
             let sym = factorize_symbolic_cholesky(
-                self.symbolic.as_ref(),
+                self.pattern.symbolic.as_ref(),
                 Side::Lower,
                 Default::default(),
                 Default::default(),
@@ -176,7 +325,7 @@ impl SparseSystem {
         let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
         sym.factorize_numeric_llt(
             &mut self.llt_values,
-            SparseColMatRef::new(self.symbolic.as_ref(), &self.values),
+            SparseColMatRef::new(self.pattern.symbolic.as_ref(), &self.values),
             Side::Lower,
             LltRegularization::default(),
             PAR,
@@ -193,7 +342,7 @@ impl SparseSystem {
     pub fn factor_lu(&mut self, values: &[f64]) -> Result<(), SparseError> {
         self.load(values)?;
         if self.lu.is_none() {
-            let sym = factorize_symbolic_lu(self.symbolic.as_ref(), Default::default())
+            let sym = factorize_symbolic_lu(self.pattern.symbolic.as_ref(), Default::default())
                 .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
             self.lu = Some(sym);
         }
@@ -205,7 +354,7 @@ impl SparseSystem {
         let sym = self.lu.as_ref().expect("symbolic LU just built");
         sym.factorize_numeric_lu(
             &mut self.lu_numeric,
-            SparseColMatRef::new(self.symbolic.as_ref(), &self.values),
+            SparseColMatRef::new(self.pattern.symbolic.as_ref(), &self.values),
             PAR,
             MemStack::new(&mut self.workspace),
             Default::default(),
@@ -262,6 +411,19 @@ impl SparseSystem {
         self.solve(rhs)
     }
 
+    /// [`SparseSystem::solve_spd`] with the values already compressed (the pattern's order, one
+    /// per compressed entry, duplicates summed).
+    pub fn solve_spd_compressed(
+        &mut self,
+        values: &[f64],
+        rhs: &[f64],
+    ) -> Result<Vec<f64>, SparseError> {
+        check_rhs(self.n, rhs)?;
+        self.load_compressed(values)?;
+        self.factor_llt()?;
+        self.solve(rhs)
+    }
+
     /// Solve a general (possibly indefinite) system by LU with partial pivoting.
     pub fn solve_lu(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
         check_rhs(self.n, rhs)?;
@@ -270,54 +432,14 @@ impl SparseSystem {
     }
 }
 
-/// The compressed-column pattern of an `n × n` matrix with entries at `positions` (rows
-/// sorted, duplicates merged) and, for each given entry, its index in the compressed values.
-/// A counting sort by column, then a sort of each column's few rows: linear in the entries.
-fn compress(
-    n: usize,
-    positions: &[(usize, usize)],
-) -> Result<(SymbolicSparseColMat<usize>, Vec<usize>), SparseError> {
-    if let Some(p) = positions.iter().find(|&&(r, c)| r >= n || c >= n) {
-        return Err(SparseError::Pattern(format!(
+fn check_positions(n: usize, positions: &[(usize, usize)]) -> Result<(), SparseError> {
+    match positions.iter().find(|&&(r, c)| r >= n || c >= n) {
+        Some(p) => Err(SparseError::Pattern(format!(
             "entry ({}, {}) outside a {n}×{n} matrix",
             p.0, p.1
-        )));
+        ))),
+        None => Ok(()),
     }
-    // entries bucketed by column
-    let mut start = vec![0usize; n + 1];
-    for &(_, c) in positions {
-        start[c + 1] += 1;
-    }
-    for c in 0..n {
-        start[c + 1] += start[c];
-    }
-    let mut next = start.clone();
-    let mut order = vec![0usize; positions.len()];
-    for (k, &(_, c)) in positions.iter().enumerate() {
-        order[next[c]] = k;
-        next[c] += 1;
-    }
-    let mut col_ptr = vec![0usize; n + 1];
-    let mut row_idx = Vec::with_capacity(positions.len());
-    let mut slot = vec![0usize; positions.len()];
-    for c in 0..n {
-        let bucket = &mut order[start[c]..start[c + 1]];
-        bucket.sort_unstable_by_key(|&k| positions[k].0);
-        let mut last = None;
-        for &k in bucket.iter() {
-            let row = positions[k].0;
-            if last != Some(row) {
-                row_idx.push(row);
-                last = Some(row);
-            }
-            slot[k] = row_idx.len() - 1;
-        }
-        col_ptr[c + 1] = row_idx.len();
-    }
-    Ok((
-        SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
-        slot,
-    ))
 }
 
 fn check_rhs(n: usize, rhs: &[f64]) -> Result<(), SparseError> {
@@ -401,14 +523,14 @@ mod tests {
         sys.solve_spd(&val, &b).unwrap();
         // the same entries listed backwards: same compressed pattern, new slots
         let (rpos, rval): (Vec<_>, Vec<_>) = pos.iter().zip(&val).rev().unzip();
-        sys.set_positions(&rpos).unwrap();
+        sys.set_pattern(Pattern::new(n, &rpos).unwrap()).unwrap();
         let x = sys.solve_spd(&rval, &b).unwrap();
         assert!(residual(&rpos, &rval, &x, &b) < 1e-9);
         // one more off-diagonal pair: another pattern
         let (mut mpos, mut mval) = (pos.clone(), val.clone());
         mpos.extend([(0, n - 1), (n - 1, 0)]);
         mval.extend([-0.1, -0.1]);
-        sys.set_positions(&mpos).unwrap();
+        sys.set_pattern(Pattern::new(n, &mpos).unwrap()).unwrap();
         let y = sys.solve_spd(&mval, &b).unwrap();
         assert!(residual(&mpos, &mval, &y, &b) < 1e-9);
         // values given for the old pattern are refused, not misread
@@ -417,8 +539,45 @@ mod tests {
             Err(SparseError::Length { .. })
         ));
         assert!(matches!(
-            sys.set_positions(&[(n, 0)]),
+            Pattern::new(n, &[(n, 0)]),
             Err(SparseError::Pattern(_))
+        ));
+        assert!(matches!(
+            sys.set_pattern(Pattern::new(n + 1, &pos).unwrap()),
+            Err(SparseError::Length { .. })
+        ));
+    }
+
+    #[test]
+    fn an_extended_pattern_is_the_pattern_of_the_whole_list() {
+        let n = 40;
+        let (mut pos, _) = laplacian(n);
+        // entries the first part lacks (a far coupling) and repeats of ones it has
+        pos.extend([(n - 1, 0), (0, n - 1), (3, 3), (n - 1, 0), (7, 6)]);
+        for split in [0, 1, pos.len() / 2, pos.len() - 3, pos.len()] {
+            let head = Pattern::new(n, &pos[..split]).unwrap();
+            let merged = head.extended(&pos[split..]).unwrap();
+            let whole = Pattern::new(n, &pos).unwrap();
+            assert!(merged.same_compressed(&whole), "split {split}");
+            assert_eq!(merged.slots(), whole.slots(), "split {split}");
+        }
+    }
+
+    #[test]
+    fn compressed_values_factor_like_listed_ones() {
+        let n = 30;
+        let (pos, val) = laplacian(n);
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut sys = SparseSystem::new(n, &pos).unwrap();
+        let x = sys.solve_spd(&val, &b).unwrap();
+        let mut compressed = vec![0.0; sys.pattern().nnz()];
+        for (&s, v) in sys.pattern().slots().iter().zip(&val) {
+            compressed[s] += v;
+        }
+        assert_eq!(sys.solve_spd_compressed(&compressed, &b).unwrap(), x);
+        assert!(matches!(
+            sys.solve_spd_compressed(&val, &b),
+            Err(SparseError::Length { .. })
         ));
     }
 
