@@ -4,7 +4,8 @@
 //! The platen starts at the top of the relaxed turf, H₀ = max(z + r) over the free nodes (an
 //! adhesive sphere z₀ above it: [`TurfSystem::start_height`]), and
 //! moves to H_k = H₀(1 − ε_k), ε_k = ε_max k/n for k = 1 … n, then (when unloading) back along
-//! the same strains to ε = 0. Each step is a static equilibrium ([`StaticSolver`]) warm-started
+//! the same strains to ε = 0 and (an adhesive sphere's retract, [`Retract`]) on above its first
+//! touch, H₀ + d k/m for k = 1 … m, where the tips it holds are pulled off. Each step is a static equilibrium ([`StaticSolver`]) warm-started
 //! from the previous one; before the solve, nodes the platen has overtaken are put back just
 //! under it (a feasible start, so the penalty starts at zero). Recorded per step: nominal
 //! strain ε = (H₀ − H)/H₀, the platen force F = −∂E/∂H and the nominal stress σ = F/A (A the
@@ -29,6 +30,18 @@ pub struct CompressionParams {
     pub steps: usize,
     /// also unload back to zero strain in as many steps
     pub unload: bool,
+    /// then raise the platen above its first touch (an adhesive sphere's pull-off)
+    pub retract: Option<Retract>,
+}
+
+/// The retract after the unloading: the platen raised `distance` above its start height H₀ in
+/// `steps` equal steps (recorded as unloading, at negative strains −d k/(m H₀)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Retract {
+    /// how far above H₀, nm (> 0)
+    pub distance: f64,
+    /// its steps (≥ 1)
+    pub steps: usize,
 }
 
 impl CompressionParams {
@@ -39,6 +52,14 @@ impl CompressionParams {
                 "strain {} must be in (0, 1) and steps {} at least 1",
                 self.strain_max, self.steps
             )));
+        }
+        if let Some(r) = self.retract {
+            if !(r.distance > 0.0 && r.distance.is_finite()) || r.steps == 0 || !self.unload {
+                return Err(DriveError::Invalid(format!(
+                    "a retract of {} nm in {} steps must be > 0, in at least 1 step, after an unloading",
+                    r.distance, r.steps
+                )));
+            }
         }
         Ok(())
     }
@@ -113,7 +134,8 @@ pub enum DriveError {
     },
 }
 
-/// The strains of the path, step 0 (ε = 0) first; `true` while loading.
+/// The strains of the path, step 0 (ε = 0) first; `true` while loading. A retract's strains
+/// are those of the drive from the start height `h0` ([`retract_path`]).
 pub fn strain_path(p: &CompressionParams) -> Vec<(f64, bool)> {
     let n = p.steps;
     let mut path: Vec<(f64, bool)> = (0..=n)
@@ -127,6 +149,15 @@ pub fn strain_path(p: &CompressionParams) -> Vec<(f64, bool)> {
         );
     }
     path
+}
+
+/// The strains of the retract of `p` above the start height `h0` (none without one).
+pub fn retract_path(p: &CompressionParams, h0: f64) -> Vec<(f64, bool)> {
+    p.retract.map_or_else(Vec::new, |r| {
+        (1..=r.steps)
+            .map(|k| (-r.distance * k as f64 / (r.steps as f64 * h0), false))
+            .collect()
+    })
 }
 
 /// Compress the relaxed turf at `x` (nm; the final configuration on return) along `params`,
@@ -146,12 +177,13 @@ pub fn compress(
     observe: &mut dyn FnMut(&StepRecord, &SavedStep),
 ) -> Result<Vec<StepRecord>, DriveError> {
     params.check()?;
-    let path = strain_path(params);
-    let total = path.len();
     let (h0, saved) = match resume {
         Some(r) => (r.start_height, r.steps.as_slice()),
         None => (sys.start_height(x), &[][..]),
     };
+    let mut path = strain_path(params);
+    path.extend(retract_path(params, h0));
+    let total = path.len();
     if saved.len() > path.len() || saved.iter().any(|s| s.x.len() != x.len()) {
         return Err(DriveError::Invalid(format!(
             "the resumed drive holds {} steps of a path of {} (or configurations of another size)",
@@ -300,6 +332,7 @@ mod tests {
             strain_max: 0.3,
             steps: 3,
             unload: true,
+            retract: None,
         };
         let path = strain_path(&p);
         let strains: Vec<f64> = path.iter().map(|s| s.0).collect();
@@ -309,5 +342,42 @@ mod tests {
             assert!((a - b).abs() < 1e-15);
         }
         assert_eq!(path.iter().filter(|s| s.1).count(), 4);
+    }
+
+    #[test]
+    fn a_retract_raises_the_platen_above_its_start_in_equal_steps() {
+        let mut p = CompressionParams {
+            strain_max: 0.3,
+            steps: 3,
+            unload: true,
+            retract: Some(Retract {
+                distance: 10.0,
+                steps: 4,
+            }),
+        };
+        let h0 = 1000.0;
+        let heights: Vec<f64> = retract_path(&p, h0)
+            .iter()
+            .map(|&(e, loading)| {
+                assert!(!loading);
+                h0 * (1.0 - e)
+            })
+            .collect();
+        let expect = [1002.5, 1005.0, 1007.5, 1010.0];
+        assert_eq!(heights.len(), expect.len());
+        for (a, b) in heights.iter().zip(expect) {
+            assert!((a - b).abs() < 1e-9, "{a} against {b}");
+        }
+        assert!(p.check().is_ok());
+        p.unload = false;
+        assert!(p.check().is_err(), "a retract without an unloading");
+        p.unload = true;
+        p.retract = Some(Retract {
+            distance: -1.0,
+            steps: 4,
+        });
+        assert!(p.check().is_err(), "a retract downwards");
+        p.retract = None;
+        assert!(retract_path(&p, h0).is_empty());
     }
 }

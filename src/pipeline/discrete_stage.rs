@@ -39,7 +39,7 @@ use super::turf_setup::{failed, static_solver, turf_system, vdw_params};
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::checkpoint::{Checkpoint, SavedRelaxation};
 use crate::discrete::drive::{
-    compress, CompressionParams, DriveError, Resume, SavedStep, StepRecord,
+    compress, CompressionParams, DriveError, Resume, Retract, SavedStep, StepRecord,
 };
 use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
 use crate::discrete::model::{relax, State, StaticSolver, TurfSystem};
@@ -367,7 +367,10 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     let structure = vdw.as_ref().and_then(|v| sys.structure(&x, v.gap_switch));
     let start = (&relaxed, resume.as_ref(), fingerprint.as_str());
     let run = Compressed::drive(job, &turf, &mut sys, &mut x, &solver, start, done)?;
-    let analysis = analyse(&run.records);
+    // the curve is the drive's loading and unloading; a retract's steps (negative strain)
+    // carry the pull-off alone
+    let curve = &run.records[..run.records.len() - k.retract_steps()];
+    let analysis = analyse(curve);
     let written = write_realisation(job, &sys, structure.as_ref(), vdw.as_ref(), &run, &analysis)?;
     let mut values: BTreeMap<String, f64> = written.structure_values.into_iter().collect();
     realisation_values(
@@ -379,6 +382,15 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         &run.records,
     );
     analysis_values(&mut values, &analysis, &run.records[k.steps]);
+    let mut warnings = written.warnings;
+    let last = run.records.last().map(|r| r.state.platen_force);
+    if k.retract.is_some() && last.is_some() && last == values.get("pull_off_nN").copied() {
+        warnings.push(format!(
+            "the sphere pulls hardest at the retract's last step ({:.4} nN): the tips may let go \
+             further up (raise compression.retract)",
+            last.unwrap_or_default()
+        ));
+    }
     let evaluations = relaxed.cost.gradient_evaluations
         + run
             .records
@@ -388,8 +400,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     Ok(Finished {
         index: job.index,
         seed: job.seed,
-        path: run
-            .records
+        path: curve
             .iter()
             .map(|r| (r.strain, r.loading, r.stress))
             .collect(),
@@ -397,7 +408,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         tangent: written.tangent,
         files: written.files,
         evaluations: evaluations as u64,
-        warnings: written.warnings,
+        warnings,
     })
 }
 
@@ -496,11 +507,15 @@ impl Compressed {
             strain_max: k.to.0,
             steps: k.steps,
             unload: k.unload,
+            retract: k.retract.map(|d| Retract {
+                distance: d.0,
+                steps: k.retract_steps(),
+            }),
         };
-        let vtk_steps = [0, k.steps, if k.unload { 2 * k.steps } else { k.steps }];
+        let total = k.path_steps();
+        let vtk_steps = [0, k.steps, total];
         let mut vtk_files: Vec<PathBuf> = Vec::new();
         let mut side_error = None;
-        let total = if k.unload { 2 * k.steps } else { k.steps };
         let start_height = resume.map_or(sys.start_height(x), |r| r.start_height);
         let mut reached: Vec<SavedStep> = Vec::new();
         let mut partial: Vec<StepRecord> = Vec::new();
@@ -661,6 +676,17 @@ fn load_depth_table(records: &[StepRecord]) -> Table {
         )
 }
 
+/// The pull-off of an adhesive sphere: the largest tension on it after the peak (nN, negative)
+/// and its depth below the first touch (nm, negative above it); `None` if it never pulled.
+fn pull_off(records: &[StepRecord]) -> Option<(f64, f64)> {
+    let h0 = records.first()?.height;
+    records
+        .iter()
+        .filter(|r| !r.loading && r.state.platen_force < 0.0)
+        .min_by(|a, b| a.state.platen_force.total_cmp(&b.state.platen_force))
+        .map(|r| (r.state.platen_force, h0 - r.height))
+}
+
 /// The realisation's size, relaxation and compression cost into `values`.
 fn realisation_values(
     values: &mut BTreeMap<String, f64>,
@@ -701,6 +727,10 @@ fn realisation_values(
         .fold(f64::INFINITY, f64::min);
     if closest.is_finite() {
         put("compression_min_gap_nm", closest);
+    }
+    if let Some((force, depth)) = pull_off(records) {
+        put("pull_off_nN", force);
+        put("pull_off_depth_nm", depth);
     }
     put("relaxation_iterations", relaxed.cost.iterations as f64);
     put("wall_time_relaxation_s", relaxed.cost.seconds);

@@ -67,6 +67,7 @@ pub(super) fn run(
         strain_max: k.to.0,
         steps: k.steps,
         unload: k.unload,
+        retract: None,
     };
     let mut observe = |r: &RveRecord| {
         say(format!(

@@ -133,6 +133,14 @@ pub struct Compression {
     /// Also unload back to zero strain, in as many steps. Default false.
     #[serde(default)]
     pub unload: bool,
+    /// After unloading, raise the adhesive sphere this far (a length > 0) above its first
+    /// touch, in `retract_steps` steps: the pull-off. Only with `indenter = "sphere"`,
+    /// `sphere_adhesion` other than `"none"` and `unload = true`. Default: no retract.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub retract: Option<Length>,
+    /// Steps of the retract, ≥ 1. Default 20; only with `retract`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub retract_steps: Option<usize>,
     /// `"fire"` or `"newton"`. Default `"fire"`.
     #[serde(default = "default_solver")]
     pub solver: DiscreteSolver,
@@ -159,6 +167,9 @@ fn default_solver() -> DiscreteSolver {
 fn default_tolerance() -> Force {
     Force(1e-3)
 }
+/// Steps of a retract when `retract_steps` is not given.
+pub const DEFAULT_RETRACT_STEPS: usize = 20;
+
 fn default_iterations() -> usize {
     100_000
 }
@@ -180,6 +191,7 @@ impl Compression {
             (Indenter::Platen, None) => {}
         }
         self.check_sphere_contact(c, adhesion);
+        self.check_retract(c);
         if self.mode != Mode::Axial {
             let name = if self.mode == Mode::Lateral {
                 "lateral"
@@ -205,6 +217,47 @@ impl Compression {
         c.count_at_least("compression.steps", self.steps, 1);
         c.positive("compression.tolerance", self.tolerance);
         c.count_at_least("compression.max_iterations", self.max_iterations, 1);
+    }
+
+    /// Steps of the whole path after the start: loading, unloading and retract.
+    pub fn path_steps(&self) -> usize {
+        self.steps * if self.unload { 2 } else { 1 } + self.retract_steps()
+    }
+
+    /// Steps of the retract (0 without one).
+    pub fn retract_steps(&self) -> usize {
+        match self.retract {
+            Some(_) => self.retract_steps.unwrap_or(DEFAULT_RETRACT_STEPS),
+            None => 0,
+        }
+    }
+
+    /// The retract keys: a pull-off needs an adhesive sphere that has unloaded.
+    fn check_retract(&self, c: &mut Checker) {
+        let Some(r) = self.retract else {
+            if self.retract_steps.is_some() {
+                c.unused("compression.retract_steps", "without compression.retract");
+            }
+            return;
+        };
+        c.positive_opt("compression.retract", Some(r));
+        if self.indenter != Indenter::Sphere || self.sphere_adhesion == SphereAdhesion::None {
+            c.bad(
+                "compression.retract",
+                "measures the pull-off of an adhesive sphere: it needs indenter = \"sphere\" and \
+                 sphere_adhesion = \"lj\" or \"lj_shifted\" (without adhesion nothing holds \
+                 the sphere above its first touch)",
+            );
+        }
+        if !self.unload {
+            c.bad(
+                "compression.retract",
+                "continues the unloading above the first touch: it needs unload = true",
+            );
+        }
+        if let Some(n) = self.retract_steps {
+            c.count_at_least("compression.retract_steps", n, 1);
+        }
     }
 
     /// The sphere's adhesion and tangential keys.

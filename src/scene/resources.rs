@@ -199,9 +199,10 @@ pub(crate) fn estimate(scene: &Scene, c: &mut Checker) -> Memory {
         limit: ceiling.bytes,
         source: &ceiling.source,
     };
-    let saved_steps = scene.compression.as_ref().map_or(1.0, |k| {
-        (k.steps as f64) * if k.unload { 2.0 } else { 1.0 } + 1.0
-    });
+    let saved_steps = scene
+        .compression
+        .as_ref()
+        .map_or(1.0, |k| k.path_steps() as f64 + 1.0);
     let nodes = NodeCost {
         bytes: DISCRETE_BYTES_PER_NODE + CHECKPOINT_BYTES_PER_NODE * saved_steps,
         lower_steps: if scene.compression.is_some() {

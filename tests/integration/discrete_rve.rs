@@ -25,6 +25,7 @@ fn equilibrium(loading: RveLoading, strain: f64, steps: usize) -> (RveRecord, f6
         strain_max: strain,
         steps,
         unload: false,
+        retract: None,
     };
     let run = drive_rve(&mut sys, &mut x, loading, &params, &newton(), &mut |_| {}).unwrap();
     assert_eq!(run.stopped, None);
@@ -65,6 +66,7 @@ fn a_lateral_drive_that_pushes_tubes_through_each_other_stops_and_keeps_the_step
         strain_max: 0.9,
         steps: 3,
         unload: false,
+        retract: None,
     };
     let run = drive_rve(
         &mut sys,

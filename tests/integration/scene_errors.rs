@@ -546,6 +546,33 @@ fn the_sphere_contact_keys_are_checked() {
     // [adhesion] with a frictionless, non-adhesive discrete sphere is used by nothing
     let msg = error(&format!("{sphere}{adhesion}"), &[]);
     assert_has(&msg, &["adhesion", "not used by any stage"]);
+    // the retract: an adhesive sphere that unloads; its steps only with it
+    let lj = "compression.sphere_adhesion=\"lj\"";
+    let (unload, retract) = ("compression.unload=true", "compression.retract=\"5 nm\"");
+    let adhesive = format!("{sphere}{adhesion}");
+    let sets: Vec<String> = [lj, unload, retract, "compression.retract_steps=10"]
+        .map(String::from)
+        .to_vec();
+    load_str(&adhesive, Path::new("good.toml"), &sets).unwrap();
+    let msg = error(&sphere, &[unload, retract]);
+    assert_has(
+        &msg,
+        &["compression.retract", "sphere_adhesion", "pull-off"],
+    );
+    let msg = error(&adhesive, &[lj, "compression.unload=false", retract]);
+    assert_has(&msg, &["compression.retract", "unload = true"]);
+    let msg = error(&adhesive, &[lj, unload, "compression.retract=\"-5 nm\""]);
+    assert_has(&msg, &["compression.retract", "must be positive"]);
+    let msg = error(&adhesive, &[lj, unload, "compression.retract_steps=10"]);
+    assert_has(
+        &msg,
+        &["compression.retract_steps", "without compression.retract"],
+    );
+    let msg = error(
+        &adhesive,
+        &[lj, unload, retract, "compression.retract_steps=0"],
+    );
+    assert_has(&msg, &["compression.retract_steps"]);
 }
 
 // ---------------------------------------------------------------------------------------------
