@@ -32,6 +32,25 @@ pub struct TurfIndentSpec<'a> {
     /// load is the reference, its 95 % interval the realisation scatter the card's error is
     /// judged against (the card comes from the scene's own seed)
     pub seeds: &'a [u64],
+    /// the adhesive sphere, in both fidelities, beside the frictionless and held ones (`None`:
+    /// not run)
+    pub adhesive: Option<Adhesive<'a>>,
+}
+
+/// The adhesive sphere of the rung: tips held, the `[adhesion]` law between the sphere and the
+/// tubes (discrete, `compression.sphere_adhesion`, shifted when the table shifts) and the card's
+/// surface (FE), loaded to the deepest depth, unloaded and retracted `retract` nm above the
+/// first touch in both: the loads at the rung's depths and the pull-off.
+#[derive(Debug, Clone)]
+pub struct Adhesive<'a> {
+    /// the `[adhesion]` table's keys (TOML), damping included for the FE's jump-in
+    pub table: &'a str,
+    /// how far the sphere is raised above its first touch after unloading, nm
+    pub retract: f64,
+    /// steps of the discrete retract
+    pub retract_steps: usize,
+    /// where the FE's approach starts, nm above the surface (clear of the law's range)
+    pub approach_from: f64,
 }
 
 /// The rung of `turf bench --turf-indent`: `scenes/turf_sphere.toml`, loads at 40, 70 and
@@ -42,7 +61,29 @@ pub const TURF_SPHERE: TurfIndentSpec<'static> = TurfIndentSpec {
     depths: &[40.0, 70.0, 100.0],
     sphere_steps: 11,
     seeds: &[3, 4, 5, 6],
+    adhesive: Some(Adhesive {
+        table: TURF_SPHERE_ADHESION,
+        retract: 20.0,
+        retract_steps: 40,
+        approach_from: 5.0,
+    }),
 };
+
+/// The adhesive rung's law: the seed's LJ 10-4 (z₀ = 0.34 nm) shifted for the tips' thermal
+/// vibration (u from the 2 µm tubes at 300 K), at γ = 20 mJ/m² — the seed's 0.46 J/m² would
+/// put the card's contact at a Tabor parameter near 10, beyond the FE's fixed mesh (its process
+/// zone is then sub-nanometre: docs/benchmarks.md "Turf indentation rung"); the damping carries
+/// the FE through the jump-in (seed eq. 4.4).
+const TURF_SPHERE_ADHESION: &str = r#"
+law = "lj104"
+gamma = "20 mJ/m^2"
+z0 = "0.34 nm"
+thermal_shift = true
+temperature = "300 K"
+[damping]
+c0 = 1e-6
+gap = "3 nm"
+"#;
 
 /// What the sphere does with what it touches, in both fidelities.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -51,17 +92,20 @@ enum Tip {
     Frictionless,
     /// held where it first touched
     Held,
+    /// held, and adhering through the [`Adhesive`] law
+    Adhesive,
 }
 
 impl Tip {
-    /// Held first: the frictionless FE run, the scene as written, is the chain folder's last.
-    const ALL: [Tip; 2] = [Tip::Held, Tip::Frictionless];
+    /// Adhesive and held first: the frictionless FE run, the scene as written, is the chain
+    /// folder's last.
+    const ALL: [Tip; 3] = [Tip::Adhesive, Tip::Held, Tip::Frictionless];
 
     /// The value of `compression.sphere_tangential` and `indenter.tangential`.
     fn key(self) -> &'static str {
         match self {
             Tip::Frictionless => "frictionless",
-            Tip::Held => "stick",
+            Tip::Held | Tip::Adhesive => "stick",
         }
     }
 
@@ -69,7 +113,16 @@ impl Tip {
         match self {
             Tip::Frictionless => "frictionless",
             Tip::Held => "held",
+            Tip::Adhesive => "adhesive held",
         }
+    }
+
+    /// The tip conditions `spec` runs.
+    fn of(spec: &TurfIndentSpec) -> Vec<Tip> {
+        Tip::ALL
+            .into_iter()
+            .filter(|&t| t != Tip::Adhesive || spec.adhesive.is_some())
+            .collect()
     }
 }
 
@@ -147,6 +200,9 @@ fn chain_scene(spec: &TurfIndentSpec, tip: Tip, card: Option<&Path>) -> Result<S
         return Err(missing(spec, "[indenter]"));
     };
     i.insert("tangential".into(), Value::String(tip.key().into()));
+    if let (Tip::Adhesive, Some(a)) = (tip, &spec.adhesive) {
+        adhesive_schedule(spec, a, &mut doc)?;
+    }
     if let Some(path) = card {
         let Some(Value::Table(m)) = doc.get_mut("material") else {
             return Err(missing(spec, "[material]"));
@@ -155,6 +211,66 @@ fn chain_scene(spec: &TurfIndentSpec, tip: Tip, card: Option<&Path>) -> Result<S
         doc.retain(|k, _| !matches!(k, "turf" | "compression" | "homogenize"));
     }
     Ok(toml::to_string(&doc)?)
+}
+
+/// The `[adhesion]` table of `a`.
+fn adhesion_table(spec: &TurfIndentSpec, a: &Adhesive) -> Result<toml::Table, BenchError> {
+    a.table
+        .parse()
+        .map_err(|e: toml::de::Error| BenchError::Toml {
+            scene: format!("{} [adhesion]", spec.name),
+            message: e.message().to_string(),
+        })
+}
+
+/// The chain scene `doc` made adhesive for the FE: the `[adhesion]` of `a`, the schedule's
+/// deepest depth reached from `a.approach_from` nm above the surface and unloaded to `a.retract`
+/// nm above it (approach, load, unload at the first segment's rate), on a fixed mesh (the held
+/// surface needs one).
+fn adhesive_schedule(
+    spec: &TurfIndentSpec,
+    a: &Adhesive,
+    doc: &mut toml::Table,
+) -> Result<(), BenchError> {
+    use toml::Value;
+    let Some(Value::Table(schedule)) = doc.get("schedule") else {
+        return Err(missing(spec, "[schedule]"));
+    };
+    let segments = schedule.get("segment").and_then(Value::as_array);
+    let first = segments.and_then(|s| s.first()).and_then(Value::as_table);
+    let rate = first
+        .and_then(|f| f.get("rate"))
+        .cloned()
+        .ok_or_else(|| missing(spec, "schedule.segment.rate"))?;
+    let deepest = segments
+        .and_then(|s| s.last())
+        .and_then(|f| f.get("to"))
+        .cloned()
+        .ok_or_else(|| missing(spec, "schedule.segment.to"))?;
+    let segment = |kind: &str, to: Value| {
+        let mut t = toml::Table::new();
+        t.insert("kind".into(), Value::String(kind.into()));
+        t.insert("to".into(), to);
+        t.insert("rate".into(), rate.clone());
+        Value::Table(t)
+    };
+    let nm = |v: f64| Value::String(format!("{v} nm"));
+    let mut schedule = toml::Table::new();
+    schedule.insert("start".into(), nm(-a.approach_from));
+    schedule.insert(
+        "segment".into(),
+        Value::Array(vec![
+            segment("approach", nm(0.0)),
+            segment("load", deepest),
+            segment("unload", nm(-a.retract)),
+        ]),
+    );
+    doc.insert("schedule".into(), Value::Table(schedule));
+    doc.insert("adhesion".into(), Value::Table(adhesion_table(spec, a)?));
+    if let Some(Value::Table(m)) = doc.get_mut("mesh") {
+        m.insert("adaptive".into(), Value::Boolean(false));
+    }
+    Ok(())
 }
 
 /// The transversely isotropic card of the scene's turf (docs/homogenize.md): its lateral and
@@ -255,6 +371,24 @@ fn sphere_scene(
     k.insert("to".into(), Value::Float(depth / height));
     k.insert("steps".into(), Value::Integer(spec.sphere_steps as i64));
     k.insert("unload".into(), Value::Boolean(false));
+    if let (Tip::Adhesive, Some(a)) = (tip, &spec.adhesive) {
+        let law = adhesion_table(spec, a)?;
+        let shifted = law
+            .get("thermal_shift")
+            .is_some_and(|v| v.as_bool() != Some(false));
+        let kind = if shifted { "lj_shifted" } else { "lj" };
+        k.insert("sphere_adhesion".into(), Value::String(kind.into()));
+        k.insert("unload".into(), Value::Boolean(true));
+        k.insert("retract".into(), Value::String(format!("{} nm", a.retract)));
+        k.insert(
+            "retract_steps".into(),
+            Value::Integer(a.retract_steps as i64),
+        );
+        // the law alone: the damping is the FE's
+        let mut law = law;
+        law.remove("damping");
+        doc.insert("adhesion".into(), Value::Table(law));
+    }
     let Some(Value::Table(s)) = doc.get_mut("scene") else {
         return Err(missing(spec, "[scene]"));
     };
@@ -272,6 +406,8 @@ struct SphereRun {
     cost: Cost,
     tubes: f64,
     cached: bool,
+    /// the adhesive sphere's pull-off (nN, negative) and its depth below the first touch (nm)
+    pull_off: Option<(f64, f64)>,
 }
 
 /// The FE on the card: its curve, cost and mesh (or why it stopped).
@@ -279,6 +415,8 @@ struct FeRun {
     curve: (Vec<f64>, Vec<f64>),
     cost: Cost,
     note: String,
+    /// the adhesive sphere's pull-off (nN, negative)
+    pull_off: Option<f64>,
 }
 
 impl FeRun {
@@ -307,7 +445,12 @@ impl FeRun {
                 format!("the FE stopped ({f})"),
             ),
         };
-        Ok(FeRun { curve, cost, note })
+        Ok(FeRun {
+            curve,
+            cost,
+            note,
+            pull_off: chain.value(Stage::Continuum, "pull_off_nN").ok(),
+        })
     }
 }
 
@@ -351,6 +494,8 @@ struct TurfIndent {
     card_seed: u64,
     /// steps of the discrete sphere's drive
     steps: usize,
+    /// its deepest depth, nm
+    deepest: f64,
     /// the lateral and shear RVE tests that, with the flat compression, make the transversely
     /// isotropic card
     transverse_making: Cost,
@@ -360,7 +505,7 @@ struct TurfIndent {
 fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchError> {
     let dir = out.join(spec.name);
     let mut chains = Vec::new();
-    for tip in Tip::ALL {
+    for tip in Tip::of(spec) {
         let chain = ChainRun::new(
             &chain_scene(spec, tip, None)?,
             spec.name,
@@ -397,6 +542,7 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchErr
         card_cached: chain.cached(Stage::Discrete),
         card_seed: scene.scene.seed,
         steps: spec.sphere_steps,
+        deepest,
         transverse_making: Cost {
             wall_s: 0.0,
             cpu_s: None,
@@ -428,9 +574,16 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchErr
                 cost: run.cost(Stage::Discrete)?,
                 tubes: run.value(Stage::Discrete, "tubes")?,
                 cached: run.cached(Stage::Discrete),
+                pull_off: run
+                    .value(Stage::Discrete, "pull_off_nN")
+                    .ok()
+                    .zip(run.value(Stage::Discrete, "pull_off_depth_nm").ok()),
             });
         }
-        let fe_transverse = fe_transverse.take().filter(|_| tip == Tip::Held);
+        let fe_transverse = match tip {
+            Tip::Held => fe_transverse.take(),
+            _ => None,
+        };
         t.tips.push(TipRuns {
             tip,
             spheres,
@@ -444,7 +597,7 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchErr
 /// The rung's rows: at each depth of `spec` and for each tip condition, the discrete load on
 /// the sphere (the mean over the turfs, the reference) and the FE load on the card (its error
 /// against that mean; where it falls against the turfs' 95 % interval and the speed-ups in the
-/// note).
+/// note); with the adhesive sphere, then its pull-off in both fidelities.
 pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
     let t = match turf_indent(out, spec) {
         Ok(t) => t,
@@ -463,6 +616,10 @@ pub fn turf_indent_rows(out: &Path, spec: &TurfIndentSpec) -> Vec<Row> {
             rows.extend(tip_rows(&t, tips, &problem, d));
         }
     }
+    let adhesive = t.tips.iter().find(|r| r.tip == Tip::Adhesive);
+    if let (Some(tips), Some(a)) = (adhesive, &spec.adhesive) {
+        rows.extend(pull_off_rows(&t, tips, a));
+    }
     rows
 }
 
@@ -474,13 +631,18 @@ fn at(c: &(Vec<f64>, Vec<f64>), d: f64) -> Result<f64, BenchError> {
     })
 }
 
-/// The rows of one tip condition at depth `d`: the turfs' mean and the FE on the card (and, held,
-/// on the transversely isotropic card).
-fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> Vec<Row> {
-    let name = tips.tip.name();
-    let loads: Result<Vec<f64>, BenchError> =
-        tips.spheres.iter().map(|s| at(&s.curve, d)).collect();
-    let estimate = loads.as_ref().ok().and_then(|l| Estimate::of(l));
+/// The discrete row of one tip condition: `values`, one per turf, their mean the reference
+/// (with its 95 % interval), `what` the measurement's own note; and what an FE row is judged
+/// against.
+fn discrete_row<'a>(
+    t: &TurfIndent,
+    tips: &TipRuns,
+    problem: &str,
+    values: Result<Vec<f64>, BenchError>,
+    what: &str,
+    fidelity: &'a str,
+) -> (Row, Reference<'a>) {
+    let estimate = values.as_ref().ok().and_then(|l| Estimate::of(l));
     let n = tips.spheres.len();
     let sum = |f: &dyn Fn(&SphereRun) -> Option<f64>| -> Option<f64> {
         tips.spheres.iter().map(f).sum::<Option<f64>>()
@@ -507,45 +669,50 @@ fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> Vec<Row> {
     let first = tips.spheres.first();
     let cached = tips.spheres.iter().any(|s| s.cached);
     let note = format!(
-        "{}; {}; {:.0} tubes in a {:.0} nm box, height {:.0} nm; √(2Rδ) = {:.0} nm; {} steps; \
-         the cost is the {n} whole curves'{}",
-        loads.as_deref().map_or(String::new(), per_turf),
+        "{}; {}; {:.0} tubes in a {:.0} nm box, height {:.0} nm; {what}; {} steps; the cost is \
+         the {n} whole curves'{}",
+        values.as_deref().map_or(String::new(), per_turf),
         estimate.as_ref().map_or(String::new(), interval),
         first.map_or(f64::NAN, |s| s.tubes),
         t.box_nm,
         t.height,
-        (2.0 * t.radius * d).sqrt(),
         t.steps,
         if cached { CACHED } else { "" }
     );
-    let fidelity = format!("discrete sphere, {name} tips (mean of {n} turfs)");
-    let reference = estimate.as_ref().map_or(f64::NAN, |e| e.mean);
-    let discrete = Row::new(
+    let mean = estimate.as_ref().map_or(f64::NAN, |e| e.mean);
+    let row = Row::new(
         problem,
-        &fidelity,
-        loads.map(|_| reference),
+        fidelity,
+        values.map(|_| mean),
         (f64::NAN, "the reference"),
         cost,
         note,
     );
     let reference = Reference {
-        mean: reference,
+        mean,
         interval: estimate.as_ref().and_then(|e| e.ci95),
-        source: &fidelity,
+        source: fidelity,
         turf_wall_s: cost.wall_s / n.max(1) as f64,
     };
-    let mut rows = vec![
-        discrete,
-        fe_row(
-            t,
-            &tips.fe,
-            &format!("FE on the card, {name}"),
-            &reference,
-            problem,
-            d,
-            None,
-        ),
-    ];
+    (row, reference)
+}
+
+/// The rows of one tip condition at depth `d`: the turfs' mean and the FE on the card (and, held,
+/// on the transversely isotropic card).
+fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> Vec<Row> {
+    let name = tips.tip.name();
+    let n = tips.spheres.len();
+    let loads: Result<Vec<f64>, BenchError> =
+        tips.spheres.iter().map(|s| at(&s.curve, d)).collect();
+    let fidelity = format!("discrete sphere, {name} tips (mean of {n} turfs)");
+    let what = format!("√(2Rδ) = {:.0} nm", (2.0 * t.radius * d).sqrt());
+    let (discrete, reference) = discrete_row(t, tips, problem, loads, &what, &fidelity);
+    let fe = FeRow {
+        label: format!("FE on the card, {name}"),
+        answer: at(&tips.fe.curve, d),
+        making: None,
+    };
+    let mut rows = vec![discrete, fe.row(t, tips, &reference, problem)];
     if let Some(fe) = &tips.fe_transverse {
         let label = format!("FE on the transversely isotropic card, {name}");
         let fe = match fe {
@@ -575,13 +742,60 @@ fn tip_rows(t: &TurfIndent, tips: &TipRuns, problem: &str, d: f64) -> Vec<Row> {
             t.transverse_making.wall_s,
             if t.card_cached { CACHED } else { "" }
         );
-        rows.push(fe_row(t, fe, &label, &reference, problem, d, Some(making)));
+        let row = FeRow {
+            label,
+            answer: at(&fe.curve, d),
+            making: Some(making),
+        };
+        rows.push(row.row_of(t, fe, &reference, problem, "finite strain, no adhesion"));
     }
     rows
 }
 
-/// What an FE row is judged against: the turfs' mean load, its 95 % interval, the discrete row
-/// it comes from and one turf's sphere run's wall time.
+/// The adhesive sphere's pull-off: the turfs' mean (where each turf let go in the note) and the
+/// FE's on the card.
+fn pull_off_rows(t: &TurfIndent, tips: &TipRuns, a: &Adhesive) -> Vec<Row> {
+    let problem = format!(
+        "turf pull-off of a {:.0} nm adhesive sphere that holds the tips (nN)",
+        t.radius
+    );
+    let n = tips.spheres.len();
+    let forces: Result<Vec<f64>, BenchError> = tips
+        .spheres
+        .iter()
+        .map(|s| {
+            s.pull_off.map(|p| p.0).ok_or(BenchError::NoValue {
+                stage: Stage::Discrete,
+                name: format!("pull_off_nN (seed {})", s.seed),
+            })
+        })
+        .collect();
+    let depths: Vec<String> = tips
+        .spheres
+        .iter()
+        .filter_map(|s| s.pull_off.map(|p| format!("{:.1}", p.1)))
+        .collect();
+    let what = format!(
+        "pulled off at δ = {} nm (seed order); unloaded in steps of {:.0} nm, retracted {} nm \
+         above the first touch in steps of {:.2} nm: a tip pulls hardest within ≈ 0.1 nm of \
+         travel, so the pull-off is sampled at the steps",
+        depths.join(", "),
+        t.deepest / t.steps as f64,
+        a.retract,
+        a.retract / a.retract_steps as f64
+    );
+    let fidelity = format!("discrete sphere, adhesive held tips (mean of {n} turfs)");
+    let (discrete, reference) = discrete_row(t, tips, &problem, forces, &what, &fidelity);
+    let fe = FeRow {
+        label: "FE on the card, adhesive held".into(),
+        answer: tips.fe.pull_off.ok_or(BenchError::NoPullOff),
+        making: None,
+    };
+    vec![discrete, fe.row(t, tips, &reference, &problem)]
+}
+
+/// What an FE row is judged against: the turfs' mean, its 95 % interval, the discrete row it
+/// comes from and one turf's sphere run's wall time.
 struct Reference<'a> {
     mean: f64,
     interval: Option<(f64, f64)>,
@@ -589,48 +803,64 @@ struct Reference<'a> {
     turf_wall_s: f64,
 }
 
-/// The row of the FE run `fe` (labelled `label`) at depth `d` against `reference`; `making`
-/// says how its card was made when it is not the isotropic card of the flat compression.
-fn fe_row(
-    t: &TurfIndent,
-    fe: &FeRun,
-    label: &str,
-    reference: &Reference,
-    problem: &str,
-    d: f64,
+/// An FE row: its label, its answer and how its card was made when it is not the isotropic
+/// card of the flat compression.
+struct FeRow {
+    label: String,
+    answer: Result<f64, BenchError>,
     making: Option<String>,
-) -> Row {
-    let answer = at(&fe.curve, d);
-    let inside = match (&answer, reference.interval) {
-        (Ok(a), Some((lo, hi))) if (lo..=hi).contains(a) => "inside the turfs' 95 % interval; ",
-        (Ok(_), Some(_)) => "outside the turfs' 95 % interval; ",
-        _ => "",
-    };
-    let making = making.unwrap_or_else(|| {
-        format!(
-            "card fitted to the seed-{} turf's flat compression (rms {:.1} %)",
-            t.card_seed,
-            100.0 * t.fit_rms
+}
+
+impl FeRow {
+    /// The row of the tip condition's FE run on the isotropic card.
+    fn row(self, t: &TurfIndent, tips: &TipRuns, reference: &Reference, problem: &str) -> Row {
+        let physics = match tips.tip {
+            Tip::Adhesive => "finite strain, adhesion",
+            _ => "finite strain, no adhesion",
+        };
+        self.row_of(t, &tips.fe, reference, problem, physics)
+    }
+
+    /// The row of the FE run `fe` against `reference`.
+    fn row_of(
+        self,
+        t: &TurfIndent,
+        fe: &FeRun,
+        reference: &Reference,
+        problem: &str,
+        physics: &str,
+    ) -> Row {
+        let inside = match (&self.answer, reference.interval) {
+            (Ok(a), Some((lo, hi))) if (lo..=hi).contains(a) => "inside the turfs' 95 % interval; ",
+            (Ok(_), Some(_)) => "outside the turfs' 95 % interval; ",
+            _ => "",
+        };
+        let making = self.making.unwrap_or_else(|| {
+            format!(
+                "card fitted to the seed-{} turf's flat compression (rms {:.1} %)",
+                t.card_seed,
+                100.0 * t.fit_rms
+            )
+        });
+        let w = reference.turf_wall_s;
+        Row::new(
+            problem,
+            &format!("{} ({physics})", self.label),
+            self.answer.map_err(|e| BenchError::Noted {
+                error: Box::new(e),
+                note: fe.note.clone(),
+            }),
+            (reference.mean, reference.source),
+            fe.cost,
+            format!(
+                "{inside}{making}; {}; {:.0}× faster than a turf's sphere run, {:.2}× with the \
+                 flat compression and fit (compression + fit {:.1} s{})",
+                fe.note,
+                w / fe.cost.wall_s.max(1e-9),
+                w / (fe.cost.wall_s + t.card_making.wall_s).max(1e-9),
+                t.card_making.wall_s,
+                if t.card_cached { CACHED } else { "" }
+            ),
         )
-    });
-    let w = reference.turf_wall_s;
-    Row::new(
-        problem,
-        &format!("{label} (finite strain, no adhesion)"),
-        answer.map_err(|e| BenchError::Noted {
-            error: Box::new(e),
-            note: fe.note.clone(),
-        }),
-        (reference.mean, reference.source),
-        fe.cost,
-        format!(
-            "{inside}{making}; {}; {:.0}× faster than a turf's sphere run, {:.2}× with the \
-             flat compression and fit (compression + fit {:.1} s{})",
-            fe.note,
-            w / fe.cost.wall_s.max(1e-9),
-            w / (fe.cost.wall_s + t.card_making.wall_s).max(1e-9),
-            t.card_making.wall_s,
-            if t.card_cached { CACHED } else { "" }
-        ),
-    )
+    }
 }

@@ -14,8 +14,9 @@ pub struct BenchArgs {
     #[arg(long)]
     pub quick: bool,
     /// Also run the turf indentation rung: a 1 µm turf (≈ 100 tubes) indented by a sphere
-    /// discretely (two realisations) and through the card fitted to its flat compression
-    /// (scenes/turf_sphere.toml; ≈ 40 min cold, its discrete stages cached under the output
+    /// discretely (four turfs) and through the cards fitted to its RVE tests, with tips
+    /// sliding, held, and held by an adhesive sphere (loads and pull-off)
+    /// (scenes/turf_sphere.toml; ≈ 45 min cold, its discrete stages cached under the output
     /// folder for re-runs: docs/benchmarks.md "Turf indentation rung").
     #[arg(long)]
     pub turf_indent: bool,
