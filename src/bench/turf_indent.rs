@@ -117,6 +117,14 @@ impl Tip {
         }
     }
 
+    /// The word in the discrete runs' folder names.
+    fn folder(self) -> &'static str {
+        match self {
+            Tip::Adhesive => "adhesive",
+            t => t.name(),
+        }
+    }
+
     /// The tip conditions `spec` runs.
     fn of(spec: &TurfIndentSpec) -> Vec<Tip> {
         Tip::ALL
@@ -564,7 +572,7 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchErr
                     spec.name,
                     tip.name()
                 ),
-                out.join(format!("{}_sphere_{}_seed{s}", spec.name, tip.name())),
+                out.join(format!("{}_sphere_{}_seed{s}", spec.name, tip.folder())),
                 false,
                 false,
             )?;
