@@ -414,8 +414,9 @@ struct SphereRun {
     cost: Cost,
     tubes: f64,
     cached: bool,
-    /// the adhesive sphere's pull-off (nN, negative) and its depth below the first touch (nm)
-    pull_off: Option<(f64, f64)>,
+    /// the adhesive sphere's pull-off (nN, negative; 0 if it never pulled) and its depth below
+    /// the first touch (nm; none if it never pulled)
+    pull_off: Option<(f64, Option<f64>)>,
 }
 
 /// The FE on the card: its curve, cost and mesh (or why it stopped).
@@ -582,10 +583,10 @@ fn turf_indent(out: &Path, spec: &TurfIndentSpec) -> Result<TurfIndent, BenchErr
                 cost: run.cost(Stage::Discrete)?,
                 tubes: run.value(Stage::Discrete, "tubes")?,
                 cached: run.cached(Stage::Discrete),
-                pull_off: run
-                    .value(Stage::Discrete, "pull_off_nN")
-                    .ok()
-                    .zip(run.value(Stage::Discrete, "pull_off_depth_nm").ok()),
+                pull_off: run.value(Stage::Discrete, "pull_off_nN").ok().map(|f| {
+                    let depth = run.value(Stage::Discrete, "pull_off_depth_nm");
+                    (f, depth.ok())
+                }),
             });
         }
         let fe_transverse = match tip {
@@ -781,7 +782,10 @@ fn pull_off_rows(t: &TurfIndent, tips: &TipRuns, a: &Adhesive) -> Vec<Row> {
     let depths: Vec<String> = tips
         .spheres
         .iter()
-        .filter_map(|s| s.pull_off.map(|p| format!("{:.1}", p.1)))
+        .filter_map(|s| {
+            s.pull_off
+                .map(|p| p.1.map_or("— (never pulled)".into(), |d| format!("{d:.1}")))
+        })
         .collect();
     let what = format!(
         "pulled off at δ = {} nm (seed order); unloaded in steps of {:.0} nm, retracted {} nm \
@@ -800,6 +804,15 @@ fn pull_off_rows(t: &TurfIndent, tips: &TipRuns, a: &Adhesive) -> Vec<Row> {
         making: None,
     };
     vec![discrete, fe.row(t, tips, &reference, &problem)]
+}
+
+/// A speed-up: whole above 10, two decimals below.
+fn ratio(r: f64) -> String {
+    if r >= 10.0 {
+        format!("{r:.0}")
+    } else {
+        format!("{r:.2}")
+    }
 }
 
 /// What an FE row is judged against: the turfs' mean, its 95 % interval, the discrete row it
@@ -861,10 +874,10 @@ impl FeRow {
             (reference.mean, reference.source),
             fe.cost,
             format!(
-                "{inside}{making}; {}; {:.0}× faster than a turf's sphere run, {:.2}× with the \
+                "{inside}{making}; {}; {}× faster than a turf's sphere run, {:.2}× with the \
                  flat compression and fit (compression + fit {:.1} s{})",
                 fe.note,
-                w / fe.cost.wall_s.max(1e-9),
+                ratio(w / fe.cost.wall_s.max(1e-9)),
                 w / (fe.cost.wall_s + t.card_making.wall_s).max(1e-9),
                 t.card_making.wall_s,
                 if t.card_cached { CACHED } else { "" }

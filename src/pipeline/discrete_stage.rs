@@ -382,6 +382,10 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         &run.records,
     );
     analysis_values(&mut values, &analysis, &run.records[k.steps]);
+    if k.retract.is_some() {
+        // a sphere that never pulled at any step has a pull-off of zero
+        values.entry("pull_off_nN".into()).or_insert(0.0);
+    }
     let mut warnings = written.warnings;
     let last = run.records.last().map(|r| r.state.platen_force);
     if k.retract.is_some() && last.is_some() && last == values.get("pull_off_nN").copied() {
