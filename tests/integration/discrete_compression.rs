@@ -625,25 +625,31 @@ fn a_clamped_tube_under_a_sphere_carries_its_critical_column_load() {
 
 #[test]
 fn the_pipeline_writes_the_sphere_load_depth_curve() {
-    let scene = SCENE
-        .replace(
-            "to = 0.3\nsteps = 5\nunload = true",
-            "indenter = \"sphere\"\nsphere_radius = \"300 nm\"\nto = 0.1\nsteps = 2",
-        )
-        .replace("[homogenize]\ncurve = \"loading\"\n", "")
-        .replace("vtk = true", "vtk = false");
-    let (_, dir) = run_scene(&scene, "sphere");
-    let csv = std::fs::read_to_string(dir.join("load_depth.csv")).unwrap();
-    let rows: Vec<Vec<f64>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
-    assert_eq!(csv.lines().next().unwrap(), "depth_nm,load_nN,loading");
+    let compression = "indenter = \"sphere\"\nsphere_radius = \"300 nm\"\nto = 0.1\nsteps = 2";
+    let (dir, rows) = sphere_run(compression, "", "sphere");
     assert_eq!(rows.len(), 3);
     assert_eq!(rows[0][0], 0.0);
     assert!(rows[2][0] > rows[1][0] && rows[2][1] > 0.0, "{rows:?}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The small turf's scene with `compression` for its drive and `extra` appended, run into a
+/// folder named by `tag`: the folder and the rows of its `load_depth.csv`.
+fn sphere_run(compression: &str, extra: &str, tag: &str) -> (std::path::PathBuf, Vec<Vec<f64>>) {
+    let scene = SCENE
+        .replace("to = 0.3\nsteps = 5\nunload = true", compression)
+        .replace("[homogenize]\ncurve = \"loading\"\n", "")
+        .replace("vtk = true", "vtk = false")
+        + extra;
+    let (_, dir) = run_scene(&scene, tag);
+    let csv = std::fs::read_to_string(dir.join("load_depth.csv")).unwrap();
+    assert_eq!(csv.lines().next().unwrap(), "depth_nm,load_nN,loading");
+    let rows = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (dir, rows)
 }
 
 /// An adhesive sphere (plain LJ 10-4, the seed's γ and z₀, R = 5 µm: nearly flat over the
@@ -658,22 +664,12 @@ fn the_pipeline_writes_the_sphere_load_depth_curve() {
 /// unloading's 10 nm steps pass over (docs/discrete-contacts.md "Pull-off of a turf").
 #[test]
 fn an_adhesive_sphere_retracted_above_its_first_touch_records_the_pull_off() {
-    let scene = SCENE
-        .replace(
-            "to = 0.3\nsteps = 5\nunload = true",
-            "indenter = \"sphere\"\nsphere_radius = \"5 um\"\nsphere_adhesion = \"lj\"\n\
-             to = 0.02\nsteps = 2\nunload = true\nretract = \"4 nm\"\nretract_steps = 40",
-        )
-        .replace("[homogenize]\ncurve = \"loading\"\n", "")
-        .replace("vtk = true", "vtk = false")
-        + "[adhesion]\nlaw = \"lj104\"\ngamma = \"0.46 J/m^2\"\nz0 = \"0.34 nm\"\n";
-    let (_, dir) = run_scene(&scene, "pull-off");
-    let csv = std::fs::read_to_string(dir.join("load_depth.csv")).unwrap();
-    let rows: Vec<Vec<f64>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
+    let (dir, rows) = sphere_run(
+        "indenter = \"sphere\"\nsphere_radius = \"5 um\"\nsphere_adhesion = \"lj\"\n\
+         to = 0.02\nsteps = 2\nunload = true\nretract = \"4 nm\"\nretract_steps = 40",
+        "[adhesion]\nlaw = \"lj104\"\ngamma = \"0.46 J/m^2\"\nz0 = \"0.34 nm\"\n",
+        "pull-off",
+    );
     assert_eq!(rows.len(), 1 + 2 + 2 + 40, "{rows:?}");
     assert!((rows[44][0] + 4.0).abs() < 1e-9, "{rows:?}");
     let unloading = std::fs::read_to_string(dir.join("stress_strain_unloading.csv")).unwrap();
