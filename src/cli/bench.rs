@@ -16,7 +16,7 @@ pub struct BenchArgs {
     /// Also run the turf indentation rung: a 1 µm turf (≈ 100 tubes) indented by a sphere
     /// discretely (four turfs) and through the cards fitted to its RVE tests, with tips
     /// sliding, held, and held by an adhesive sphere (loads and pull-off)
-    /// (scenes/turf_sphere.toml; ≈ 45 min cold, its discrete stages cached under the output
+    /// (scenes/turf_sphere.toml; ≈ 55 min cold, its discrete stages cached under the output
     /// folder for re-runs: docs/benchmarks.md "Turf indentation rung").
     #[arg(long)]
     pub turf_indent: bool,
