@@ -378,15 +378,15 @@ fn sphere_scene(
     k.insert("sphere_tangential".into(), Value::String(tip.key().into()));
     k.insert("to".into(), Value::Float(depth / height));
     k.insert("steps".into(), Value::Integer(spec.sphere_steps as i64));
-    k.insert("unload".into(), Value::Boolean(false));
-    if let (Tip::Adhesive, Some(a)) = (tip, &spec.adhesive) {
+    let adhesive = spec.adhesive.as_ref().filter(|_| tip == Tip::Adhesive);
+    k.insert("unload".into(), Value::Boolean(adhesive.is_some()));
+    if let Some(a) = adhesive {
         let law = adhesion_table(spec, a)?;
         let shifted = law
             .get("thermal_shift")
             .is_some_and(|v| v.as_bool() != Some(false));
         let kind = if shifted { "lj_shifted" } else { "lj" };
         k.insert("sphere_adhesion".into(), Value::String(kind.into()));
-        k.insert("unload".into(), Value::Boolean(true));
         k.insert("retract".into(), Value::String(format!("{} nm", a.retract)));
         k.insert(
             "retract_steps".into(),

@@ -382,19 +382,12 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         &run.records,
     );
     analysis_values(&mut values, &analysis, &run.records[k.steps]);
-    if k.retract.is_some() {
-        // a sphere that never pulled at any step has a pull-off of zero
-        values.entry("pull_off_nN".into()).or_insert(0.0);
-    }
     let mut warnings = written.warnings;
-    let last = run.records.last().map(|r| r.state.platen_force);
-    if k.retract.is_some() && last.is_some() && last == values.get("pull_off_nN").copied() {
-        warnings.push(format!(
-            "the sphere pulls hardest at the retract's last step ({:.4} nN): the tips may let go \
-             further up (raise compression.retract)",
-            last.unwrap_or_default()
-        ));
-    }
+    warnings.extend(pull_off_values(
+        &mut values,
+        &run.records,
+        k.retract.is_some(),
+    ));
     let evaluations = relaxed.cost.gradient_evaluations
         + run
             .records
@@ -680,15 +673,34 @@ fn load_depth_table(records: &[StepRecord]) -> Table {
         )
 }
 
-/// The pull-off of an adhesive sphere: the largest tension on it after the peak (nN, negative)
-/// and its depth below the first touch (nm, negative above it); `None` if it never pulled.
-fn pull_off(records: &[StepRecord]) -> Option<(f64, f64)> {
+/// The pull-off of an adhesive sphere into `values`: the largest tension on it after the peak
+/// (`pull_off_nN`, negative) and its depth below the first touch (`pull_off_depth_nm`, negative
+/// above it), where it pulled at all; after a retract (`retracted`) a sphere that never pulled
+/// has a pull-off of zero, and one that pulls hardest at the retract's last step a warning.
+fn pull_off_values(
+    values: &mut BTreeMap<String, f64>,
+    records: &[StepRecord],
+    retracted: bool,
+) -> Option<String> {
     let h0 = records.first()?.height;
-    records
+    let hardest = records
         .iter()
         .filter(|r| !r.loading && r.state.platen_force < 0.0)
-        .min_by(|a, b| a.state.platen_force.total_cmp(&b.state.platen_force))
-        .map(|r| (r.state.platen_force, h0 - r.height))
+        .min_by(|a, b| a.state.platen_force.total_cmp(&b.state.platen_force));
+    if let Some(r) = hardest {
+        values.insert("pull_off_nN".into(), r.state.platen_force);
+        values.insert("pull_off_depth_nm".into(), h0 - r.height);
+    } else if retracted {
+        values.insert("pull_off_nN".into(), 0.0);
+    }
+    let last = records.last()?;
+    (retracted && hardest.is_some_and(|r| std::ptr::eq(r, last))).then(|| {
+        format!(
+            "the sphere pulls hardest at the retract's last step ({:.4} nN): the tips may let go \
+             further up (raise compression.retract)",
+            last.state.platen_force
+        )
+    })
 }
 
 /// The realisation's size, relaxation and compression cost into `values`.
@@ -731,10 +743,6 @@ fn realisation_values(
         .fold(f64::INFINITY, f64::min);
     if closest.is_finite() {
         put("compression_min_gap_nm", closest);
-    }
-    if let Some((force, depth)) = pull_off(records) {
-        put("pull_off_nN", force);
-        put("pull_off_depth_nm", depth);
     }
     put("relaxation_iterations", relaxed.cost.iterations as f64);
     put("wall_time_relaxation_s", relaxed.cost.seconds);
