@@ -18,12 +18,6 @@ pub trait EnergyTerm: Sync {
     /// The Hessian (nN/nm) at `x`, **appended** as (row, col, value) entries of the full
     /// symmetric matrix (both triangles; duplicates are summed by the solver).
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>);
-
-    /// The coordinates of each body (a tube's nodes) as disjoint ranges of x: a solver may
-    /// treat each body's block of the Hessian on its own. Default: none.
-    fn bodies(&self) -> Vec<std::ops::Range<usize>> {
-        Vec::new()
-    }
 }
 
 /// Finite-difference checks shared by the terms' tests.

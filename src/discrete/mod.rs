@@ -8,7 +8,6 @@
 //! records is analysed (σ₀, tangent law, hysteresis) by
 //! [`crate::homogenize::curve_analysis`].
 
-pub mod body_shift;
 pub mod broadphase;
 pub mod checkpoint;
 pub mod constraints;

@@ -66,10 +66,6 @@ impl TurfModel {
 }
 
 impl EnergyTerm for TurfModel {
-    fn bodies(&self) -> Vec<std::ops::Range<usize>> {
-        self.rods.bodies()
-    }
-
     fn prepare(&mut self, x: &[f64]) {
         if let Some(v) = self.vdw.as_mut() {
             v.prepare(x);

@@ -423,13 +423,6 @@ impl EnergyTerm for RodSet {
         energy
     }
 
-    fn bodies(&self) -> Vec<std::ops::Range<usize>> {
-        self.rods
-            .iter()
-            .map(|r| 3 * r.first..3 * (r.first + r.nodes()))
-            .collect()
-    }
-
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
         // each rod fills its own stretch of `out`, in rod order
         let start = out.len();

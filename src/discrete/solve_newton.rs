@@ -17,7 +17,6 @@
 //! from the model's entries to the system's values while the model lists the same entries, and
 //! the symbolic factorisation is kept while the compressed pattern stays the same.
 
-use super::body_shift::BodyShifts;
 use super::constraints::FixedDofs;
 use super::energy::EnergyTerm;
 use super::solve::{Evaluator, Info, SolveError};
@@ -43,9 +42,6 @@ pub struct NewtonParams {
     pub shift_growth: f64,
     /// shifted factorisations tried per iteration before giving up
     pub max_shifts: usize,
-    /// shift each body's block of the Hessian by what it needs ([`BodyShifts`]) before the
-    /// common shift
-    pub per_body: bool,
 }
 
 impl Default for NewtonParams {
@@ -59,7 +55,6 @@ impl Default for NewtonParams {
             shift_start: 1e-10,
             shift_growth: 10.0,
             max_shifts: 40,
-            per_body: false,
         }
     }
 }
@@ -102,14 +97,7 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
     }
     let newton = params.newton();
     let tol = newton.tolerance(d.residual);
-    let bodies = if params.per_body {
-        d.ev.model.bodies()
-    } else {
-        Vec::new()
-    };
-    let is_free = (0..x.len()).map(|k| !fixed.is_fixed(k)).collect();
     let mut problem = Shifted {
-        bodies: BodyShifts::new(bodies, is_free),
         d,
         hessian: FreeHessian::new(&index, free.len()),
         shift: Shift::default(),
@@ -150,8 +138,6 @@ struct Shifted<'a, E: EnergyTerm + ?Sized> {
     d: Descent<'a, E>,
     hessian: FreeHessian<'a>,
     shift: Shift,
-    /// each body's own shift (none when the model lists no bodies)
-    bodies: BodyShifts,
     /// the model's Hessian entries (scratch)
     trip: Vec<(usize, usize, f64)>,
     /// the stopping tolerance (nN)
@@ -179,13 +165,6 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
         d.ev.model.hessian(x, &mut self.trip);
         d.ev.cost.hessian_evaluations += 1;
         self.hessian.load(&self.trip)?;
-        self.hessian.extra.iter_mut().for_each(|v| *v = 0.0);
-        if !self.bodies.is_empty() {
-            let floor = d.params.shift_start * self.hessian.diag_max;
-            self.bodies.update(&self.trip, floor);
-            self.bodies
-                .add_to(self.hessian.index, &mut self.hessian.extra);
-        }
         let rhs: Vec<f64> = d.free.iter().map(|&dof| -d.grad[dof]).collect();
         let step = self.shift.solve(
             &mut self.hessian,
@@ -205,17 +184,7 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
     /// Past an instability the shift limits the step along the soft directions to about
     /// |g|/μ, and the energy keeps falling well beyond it: double the step while it does.
     fn stepped(&mut self, x: &mut [f64], step: &[f64], alpha: f64) {
-        if std::env::var_os("TURF_TRACE").is_some() {
-            let norm = step.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            eprintln!(
-                "TRACE bodies {} global {:.3e} alpha {alpha} |p| {norm:.3e} E {:.6e} r {:.3e}",
-                self.bodies.count(),
-                self.shift.prev,
-                self.d.energy,
-                self.d.residual
-            );
-        }
-        if alpha == 1.0 && (self.shift.prev > 0.0 || self.bodies.any()) {
+        if alpha == 1.0 && self.shift.prev > 0.0 {
             self.d.expand(x, step);
         }
     }
@@ -402,8 +371,6 @@ struct FreeHessian<'a> {
     shifted: Vec<f64>,
     /// largest |diagonal entry| of the Hessian itself
     diag_max: f64,
-    /// a shift of each free coordinate's own, added with the common one
-    extra: Vec<f64>,
     system: Option<SparseSystem>,
 }
 
@@ -420,7 +387,6 @@ impl<'a> FreeHessian<'a> {
             values: Vec::new(),
             shifted: Vec::new(),
             diag_max: 0.0,
-            extra: vec![0.0; free],
             system: None,
         }
     }
@@ -497,11 +463,11 @@ impl<'a> FreeHessian<'a> {
         }
     }
 
-    /// Solve (H + diag(extra) + shift·I) p = rhs by Cholesky.
+    /// Solve (H + shift·I) p = rhs by Cholesky.
     fn solve_shifted(&mut self, shift: f64, rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
         self.shifted.clone_from(&self.values);
-        for (&d, e) in self.diagonal.iter().zip(&self.extra) {
-            self.shifted[d] += shift + e;
+        for &d in &self.diagonal {
+            self.shifted[d] += shift;
         }
         let system = self.system.as_mut().ok_or(SparseError::NoFactor)?;
         system.solve_spd_compressed(&self.shifted, rhs)

@@ -145,7 +145,6 @@ pub(super) fn static_solver(k: &Compression) -> StaticSolver {
             atol: k.tolerance.0,
             rtol: 0.0,
             max_iterations: k.max_iterations,
-            per_body: std::env::var_os("TURF_PER_BODY").is_some(),
             ..NewtonParams::default()
         }),
     }
