@@ -45,6 +45,14 @@ fn segment_evaluations(c: &mut Criterion) {
             black_box(set.energy_gradient(black_box(&x), &mut g))
         })
     });
+    group.bench_function("hessian_rodset_200x50", |b| {
+        let mut h = Vec::new();
+        b.iter(|| {
+            h.clear();
+            set.hessian(black_box(&x), &mut h);
+            black_box(h.len())
+        })
+    });
     let rod = &set.rods()[0];
     group.throughput(Throughput::Elements(SEGMENTS as u64));
     group.bench_function("energy_gradient_single_rod_50", |b| {
