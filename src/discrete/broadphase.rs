@@ -204,12 +204,6 @@ impl Broadphase {
         self.pbox
     }
 
-    /// The positions of the last build, and how far (nm) a node may move from them before the
-    /// list must be rebuilt (skin/2).
-    pub fn verlet(&self) -> (&[f64], f64) {
-        (&self.x_ref, 0.5 * self.skin)
-    }
-
     /// Bring the pair list up to date for `x`: rebuild (refit the tree, collect pairs) when any
     /// node has moved more than skin/2 since the last build; otherwise keep it. Returns whether
     /// it rebuilt.

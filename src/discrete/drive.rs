@@ -252,24 +252,6 @@ pub(crate) fn solve_step(
     step: usize,
     strain: f64,
 ) -> Result<Cost, DriveError> {
-    if let (Some(n), StaticSolver::Newton(p)) = (
-        std::env::var("TURF_TUBE_SWEEPS")
-            .ok()
-            .and_then(|v| v.parse::<usize>().ok()),
-        solver,
-    ) {
-        let start = std::time::Instant::now();
-        let local = super::solve_newton::NewtonParams {
-            max_iterations: 30,
-            ..*p
-        };
-        let c = super::solve_tubes::sweep_tubes(sys, x, n, &local);
-        eprintln!(
-            "step {step}: {n} sweeps in {:.2} s: {c:?}, energy {:.6e}",
-            start.elapsed().as_secs_f64(),
-            sys.energy(x)
-        );
-    }
     sys.solve(x, solver)
         .map(|info| info.cost)
         .map_err(|source| DriveError::Step {

@@ -23,7 +23,6 @@ pub mod rve;
 pub mod solve;
 pub mod solve_fire;
 pub mod solve_newton;
-pub mod solve_tubes;
 pub mod sphere_adhesion;
 pub mod sphere_stick;
 pub mod structure;

@@ -87,23 +87,6 @@ impl Wall {
         }
     }
 
-    /// The same wall acting only on the nodes `nodes` of it, renumbered from `nodes.start`
-    /// (for a solve of one tube alone on a copy of its coordinates).
-    pub fn on_nodes(&self, nodes: std::ops::Range<usize>) -> Wall {
-        Wall {
-            nodes: self
-                .nodes
-                .iter()
-                .filter(|(i, _)| nodes.contains(i))
-                .map(|&(i, r)| (i - nodes.start, r))
-                .collect(),
-            height: self.height,
-            facing: self.facing,
-            stiffness: self.stiffness,
-            shape: self.shape,
-        }
-    }
-
     /// Penetration of node `i` of tube radius `r` (nm) into the wall.
     #[inline]
     fn penetration(&self, x: &[f64], i: usize, r: f64) -> Penetration {

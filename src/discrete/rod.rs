@@ -168,15 +168,6 @@ impl Rod {
         self.first
     }
 
-    /// The same rod on the nodes `first ..` of another vector (a copy of one tube's
-    /// coordinates, numbered from 0, for a solve of that tube alone).
-    pub fn moved_to(&self, first: usize) -> Rod {
-        Rod {
-            first,
-            ..self.clone()
-        }
-    }
-
     /// Number of nodes.
     pub fn nodes(&self) -> usize {
         self.rest_lengths.len() + 1

@@ -246,116 +246,39 @@ impl VdwTerm {
 
     /// Evaluate every listed pair at `x` (in parallel, results in pair order).
     pub fn evaluate_pairs(&self, x: &[f64], want_hessian: bool) -> Vec<SegmentPairEnergy> {
-        let node = |n: usize| Vector::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]);
+        let segs = self.broadphase.segments();
+        let pbox = self.broadphase.periodic_box();
         self.pairs()
             .par_iter()
-            .map(|p| self.evaluate(&node, p, want_hessian))
-            .collect()
-    }
-
-    /// One pair, with node positions from `node` (nm).
-    fn evaluate(
-        &self,
-        node: &dyn Fn(usize) -> Vector,
-        p: &SegmentPair,
-        want_hessian: bool,
-    ) -> SegmentPairEnergy {
-        let segs = self.broadphase.segments();
-        let quad = |i: usize, off: Vector| {
-            let s = &self.exclusion.info[i];
-            let [n0, n1] = segs.nodes[i];
-            QuadSegment {
-                ends: [node(n0) + off, node(n1) + off],
-                panels: s.panels,
-                length0: s.length0,
-            }
-        };
-        let (a, b) = (p.a as usize, p.b as usize);
-        let pbox = self.broadphase.periodic_box();
-        let (qa, qb) = (quad(a, Vector::ZERO), quad(b, pbox.offset(p.shift)));
-        match &self.table {
-            Some(t) => {
-                energy_segment_segment_tabulated(&self.pot, t, &self.rule, &qa, &qb, want_hessian)
-            }
-            None => {
-                let r_sum = self.exclusion.info[a].radius + self.exclusion.info[b].radius;
-                energy_segment_segment(&self.pot, &self.rule, &qa, &qb, r_sum, want_hessian)
-            }
-        }
-    }
-
-    /// Indices (into [`Self::pairs`]) of the listed pairs with a segment on a node of `nodes`.
-    pub fn pairs_touching(&self, nodes: std::ops::Range<usize>) -> Vec<usize> {
-        let segs = self.broadphase.segments();
-        let touches = |i: u32| segs.nodes[i as usize].iter().any(|n| nodes.contains(n));
-        self.pairs()
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| touches(p.a) || touches(p.b))
-            .map(|(k, _)| k)
-            .collect()
-    }
-
-    /// The positions the neighbour list was built at, and the distance (nm) any node may move
-    /// from them before the list must be rebuilt (half the skin).
-    pub fn verlet(&self) -> (&[f64], f64) {
-        self.broadphase.verlet()
-    }
-
-    /// The energy (aJ) of the listed pairs `pairs` as a function of the nodes `nodes` alone,
-    /// the others held at `x`: `local` holds those nodes' coordinates (3 per node, local
-    /// numbering), their gradient is added into `grad` and, when `hessian` is given, their
-    /// Hessian entries (local numbering) are appended to it.
-    pub fn energy_of_nodes(
-        &self,
-        x: &[f64],
-        nodes: std::ops::Range<usize>,
-        local: &[f64],
-        pairs: &[usize],
-        grad: &mut [f64],
-        mut hessian: Option<&mut Vec<(usize, usize, f64)>>,
-    ) -> f64 {
-        let first = nodes.start;
-        let node = |n: usize| {
-            let (v, k) = if nodes.contains(&n) {
-                (local, 3 * (n - first))
-            } else {
-                (x, 3 * n)
-            };
-            Vector::new(v[k], v[k + 1], v[k + 2])
-        };
-        let segs = self.broadphase.segments();
-        let mut energy = 0.0;
-        for &k in pairs {
-            let p = &self.pairs()[k];
-            let r = self.evaluate(&node, p, hessian.is_some());
-            energy += r.energy;
-            // local dof of each of the pair's 12, or None for a node held fixed
-            let dof: [Option<usize>; 12] = std::array::from_fn(|j| {
-                let seg = if j < 6 { p.a } else { p.b };
-                let n = segs.nodes[seg as usize][(j / 3) % 2];
-                nodes.contains(&n).then(|| 3 * (n - first) + j % 3)
-            });
-            for (d, g) in dof.iter().zip(r.grad) {
-                if let Some(d) = d {
-                    grad[*d] += g;
-                }
-            }
-            if let (Some(out), Some(h)) = (hessian.as_deref_mut(), &r.hessian) {
-                if r.point_pairs == 0 {
-                    continue;
-                }
-                for (i, di) in dof.iter().enumerate() {
-                    let Some(di) = di else { continue };
-                    for (j, dj) in dof.iter().enumerate() {
-                        if let Some(dj) = dj {
-                            out.push((*di, *dj, h[12 * i + j]));
-                        }
+            .map(|p| {
+                let quad = |i: usize, off: Vector| {
+                    let s = &self.exclusion.info[i];
+                    let [n0, n1] = segs.nodes[i];
+                    let v = |n: usize| Vector::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]) + off;
+                    QuadSegment {
+                        ends: [v(n0), v(n1)],
+                        panels: s.panels,
+                        length0: s.length0,
+                    }
+                };
+                let (a, b) = (p.a as usize, p.b as usize);
+                let (qa, qb) = (quad(a, Vector::ZERO), quad(b, pbox.offset(p.shift)));
+                match &self.table {
+                    Some(t) => energy_segment_segment_tabulated(
+                        &self.pot,
+                        t,
+                        &self.rule,
+                        &qa,
+                        &qb,
+                        want_hessian,
+                    ),
+                    None => {
+                        let r_sum = self.exclusion.info[a].radius + self.exclusion.info[b].radius;
+                        energy_segment_segment(&self.pot, &self.rule, &qa, &qb, r_sum, want_hessian)
                     }
                 }
-            }
-        }
-        energy
+            })
+            .collect()
     }
 
     /// The periodic box.
