@@ -18,13 +18,6 @@ pub trait EnergyTerm: Sync {
     /// The Hessian (nN/nm) at `x`, **appended** as (row, col, value) entries of the full
     /// symmetric matrix (both triangles; duplicates are summed by the solver).
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>);
-
-    /// The Hessian with each element's block replaced by its positive-semidefinite part
-    /// ([`crate::numerics::psd`]), listing the same entries as [`Self::hessian`]. Default: the
-    /// Hessian itself, for terms whose elements are convex.
-    fn hessian_projected(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.hessian(x, out)
-    }
 }
 
 /// Finite-difference checks shared by the terms' tests.

@@ -54,17 +54,13 @@ pub struct TurfModel {
 }
 
 impl TurfModel {
-    /// The terms in play, in a fixed order: the rods, the contacts, the substrate, the platen,
-    /// and the sphere's adhesion and hold while the indenter is in place.
-    fn terms(&self) -> impl Iterator<Item = &dyn EnergyTerm> {
+    /// The sphere's adhesion and hold, while the indenter is in place.
+    fn sphere_terms(&self) -> impl Iterator<Item = &dyn EnergyTerm> {
         let on = self.platen.is_some();
         let lj = self.sphere_lj.as_ref().filter(|_| on);
         let stick = self.stick.as_ref().filter(|_| on);
-        std::iter::once(&self.rods as &dyn EnergyTerm)
-            .chain(self.vdw.as_ref().map(|t| t as &dyn EnergyTerm))
-            .chain(std::iter::once(&self.substrate as &dyn EnergyTerm))
-            .chain(self.platen.as_ref().map(|t| t as &dyn EnergyTerm))
-            .chain(lj.map(|t| t as &dyn EnergyTerm))
+        lj.map(|t| t as &dyn EnergyTerm)
+            .into_iter()
             .chain(stick.map(|t| t as &dyn EnergyTerm))
     }
 }
@@ -77,15 +73,32 @@ impl EnergyTerm for TurfModel {
     }
 
     fn energy_gradient(&self, x: &[f64], grad: &mut [f64]) -> f64 {
-        self.terms().map(|t| t.energy_gradient(x, grad)).sum()
+        let mut e = self.rods.energy_gradient(x, grad);
+        if let Some(v) = &self.vdw {
+            e += v.energy_gradient(x, grad);
+        }
+        e += self.substrate.energy_gradient(x, grad);
+        if let Some(p) = &self.platen {
+            e += p.energy_gradient(x, grad);
+        }
+        for t in self.sphere_terms() {
+            e += t.energy_gradient(x, grad);
+        }
+        e
     }
 
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.terms().for_each(|t| t.hessian(x, out));
-    }
-
-    fn hessian_projected(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.terms().for_each(|t| t.hessian_projected(x, out));
+        self.rods.hessian(x, out);
+        if let Some(v) = &self.vdw {
+            v.hessian(x, out);
+        }
+        self.substrate.hessian(x, out);
+        if let Some(p) = &self.platen {
+            p.hessian(x, out);
+        }
+        for t in self.sphere_terms() {
+            t.hessian(x, out);
+        }
     }
 }
 

@@ -26,7 +26,6 @@ use super::energy::EnergyTerm;
 use super::rod_kernels::{
     bend_vertex, bend_vertex_gradient, curvature_binormal, stretch_edge, stretch_edge_gradient,
 };
-use crate::numerics::psd::project_psd;
 
 /// Elastic constants of a tube section.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -338,34 +337,16 @@ impl Rod {
         NodeBlocks::entries(self.nodes())
     }
 
-    /// The rod's Hessian entries into `out` (of length [`Self::hessian_entries`]); with
-    /// `project`, each edge's and each vertex's block is replaced by its positive-semidefinite
-    /// part (a compressed edge loses its negative transverse stiffness EA(1 − ℓ/|e|)/ℓ).
-    fn hessian_into(&self, x: &[f64], out: &mut [(usize, usize, f64)], project: bool) {
+    /// The rod's Hessian entries into `out` (of length [`Self::hessian_entries`]).
+    fn hessian_into(&self, x: &[f64], out: &mut [(usize, usize, f64)]) {
         let mut blocks = NodeBlocks::new(self.nodes());
         for (j, &rest) in self.rest_lengths.iter().enumerate() {
-            let e = self.edge(x, j);
-            let (_, _, mut h) = stretch_edge(&e, rest, self.stiffness.axial);
-            let len = e.norm();
-            if project && len < rest {
-                // eigenvalues EA/ℓ along e and EA(|e| − ℓ)/(ℓ|e|) < 0 across it
-                let t = e / len;
-                let f = if std::env::var_os("TURF_PSD_ABS").is_some() {
-                    2.0
-                } else {
-                    1.0
-                };
-                h -= (Matrix3::identity() - t * t.transpose())
-                    * (f * self.stiffness.axial * (len - rest) / (rest * len));
-            }
+            let (_, _, h) = stretch_edge(&self.edge(x, j), rest, self.stiffness.axial);
             blocks.add_edges(&[(j, j + 1)], |_, _| h);
         }
         for i in 1..self.segments() {
             let (e, f) = (self.edge(x, i - 1), self.edge(x, i));
-            let (_, _, mut h) = bend_vertex(&e, &f, &self.natural[i - 1], self.bend_weight(i));
-            if project {
-                project_psd(&mut h);
-            }
+            let (_, _, h) = bend_vertex(&e, &f, &self.natural[i - 1], self.bend_weight(i));
             blocks.add_edges(&[(i - 1, i), (i, i + 1)], |a, b| {
                 h.fixed_view::<3, 3>(3 * a, 3 * b).into_owned()
             });
@@ -383,13 +364,7 @@ impl EnergyTerm for Rod {
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
         let start = out.len();
         out.resize(start + self.hessian_entries(), (0, 0, 0.0));
-        self.hessian_into(x, &mut out[start..], false);
-    }
-
-    fn hessian_projected(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        let start = out.len();
-        out.resize(start + self.hessian_entries(), (0, 0, 0.0));
-        self.hessian_into(x, &mut out[start..], true);
+        self.hessian_into(x, &mut out[start..]);
     }
 }
 
@@ -449,18 +424,7 @@ impl EnergyTerm for RodSet {
     }
 
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.hessian_all(x, out, false);
-    }
-
-    fn hessian_projected(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.hessian_all(x, out, true);
-    }
-}
-
-impl RodSet {
-    /// Every rod's Hessian entries (projected with `project`), each rod filling its own
-    /// stretch of `out`, in rod order.
-    fn hessian_all(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>, project: bool) {
+        // each rod fills its own stretch of `out`, in rod order
         let start = out.len();
         let total: usize = self.rods.iter().map(Rod::hessian_entries).sum();
         out.resize(start + total, (0, 0, 0.0));
@@ -473,7 +437,7 @@ impl RodSet {
         }
         parts
             .into_par_iter()
-            .for_each(|(rod, part)| rod.hessian_into(x, part, project));
+            .for_each(|(rod, part)| rod.hessian_into(x, part));
     }
 }
 

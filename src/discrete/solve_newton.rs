@@ -42,9 +42,6 @@ pub struct NewtonParams {
     pub shift_growth: f64,
     /// shifted factorisations tried per iteration before giving up
     pub max_shifts: usize,
-    /// when H does not factor, take the step on the projected Hessian (each element's block
-    /// on its positive-semidefinite part) instead of shifting H
-    pub projected: bool,
 }
 
 impl Default for NewtonParams {
@@ -58,7 +55,6 @@ impl Default for NewtonParams {
             shift_start: 1e-10,
             shift_growth: 10.0,
             max_shifts: 40,
-            projected: std::env::var_os("TURF_PROJECTED").is_some(),
         }
     }
 }
@@ -111,13 +107,6 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
         scale: 0.0,
     };
     let solved = newton::solve(&mut problem, x, &newton);
-    if std::env::var_os("TURF_CHECK_PD").is_some() {
-        let m = is_local_minimum(&*problem.d.ev.model, fixed, x);
-        eprintln!(
-            "PDCHECK iterations {} energy {:.3} minimum {:?} last shift {:e}",
-            problem.d.ev.cost.iterations, problem.d.energy, m, problem.shift.prev
-        );
-    }
     let d = &mut problem.d;
     match solved {
         Ok(info) => Ok(Info {
@@ -177,39 +166,12 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
         d.ev.cost.hessian_evaluations += 1;
         self.hessian.load(&self.trip)?;
         let rhs: Vec<f64> = d.free.iter().map(|&dof| -d.grad[dof]).collect();
-        let step = if d.params.projected {
-            d.ev.cost.factorizations += 1;
-            match self.hessian.solve_shifted(0.0, &rhs) {
-                Ok(p) => {
-                    self.shift.prev = 0.0;
-                    p
-                }
-                Err(SparseError::NotPositiveDefinite) => {
-                    self.trip.clear();
-                    d.ev.model.hessian_projected(x, &mut self.trip);
-                    d.ev.cost.hessian_evaluations += 1;
-                    self.hessian.load(&self.trip)?;
-                    self.shift.prev = 0.0;
-                    let p = self.shift.solve(
-                        &mut self.hessian,
-                        &rhs,
-                        d.params,
-                        &mut d.ev.cost.factorizations,
-                    )?;
-                    // mark the step as modified (expanded when taken whole)
-                    self.shift.prev = self.shift.prev.max(f64::MIN_POSITIVE);
-                    p
-                }
-                Err(e) => return Err(e.into()),
-            }
-        } else {
-            self.shift.solve(
-                &mut self.hessian,
-                &rhs,
-                d.params,
-                &mut d.ev.cost.factorizations,
-            )?
-        };
+        let step = self.shift.solve(
+            &mut self.hessian,
+            &rhs,
+            d.params,
+            &mut d.ev.cost.factorizations,
+        )?;
         self.slope = d.free.iter().zip(&step).map(|(&k, p)| d.grad[k] * p).sum();
         self.scale = d.free.iter().map(|&k| (d.grad[k] * x[k]).abs()).sum();
         Ok(step)

@@ -17,9 +17,7 @@ use super::vdw::{
     VdwParams,
 };
 use super::vdw_table::{energy_segment_segment_tabulated, InnerTable, D_STEP, X_STEP};
-use crate::numerics::psd::project_psd;
 use crate::numerics::quadrature::gauss_legendre_unit;
-use nalgebra::SMatrix;
 
 /// Where one tube's nodes sit in the coordinate vector: nodes `first_node ..
 /// first_node + nodes`, consecutive nodes joined by segments.
@@ -355,33 +353,7 @@ impl EnergyTerm for VdwTerm {
     }
 
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.hessian_entries(x, out, false);
-    }
-
-    /// Each pair's 12 × 12 block projected on its positive-semidefinite part.
-    fn hessian_projected(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.hessian_entries(x, out, true);
-    }
-}
-
-impl VdwTerm {
-    /// Every listed pair's Hessian block (projected with `project`), in pair order.
-    fn hessian_entries(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>, project: bool) {
-        let mut results = self.evaluate_pairs(x, true);
-        if project {
-            results.par_iter_mut().for_each(|r| {
-                if let Some(h) = r.hessian.as_mut().filter(|_| r.point_pairs > 0) {
-                    let mut m = SMatrix::<f64, 12, 12>::from_row_slice(&h[..]);
-                    if project_psd(&mut m) {
-                        for i in 0..12 {
-                            for j in 0..12 {
-                                h[12 * i + j] = m[(i, j)];
-                            }
-                        }
-                    }
-                }
-            });
-        }
+        let results = self.evaluate_pairs(x, true);
         for (p, r) in self.pairs().iter().zip(&results) {
             if r.point_pairs == 0 {
                 continue;

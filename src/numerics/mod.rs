@@ -4,14 +4,12 @@
 //!   faer, with the symbolic analysis computed once per sparsity pattern and reused.
 //! - [`newton`]: the Newton iteration with a backtracking line search, its problems plug-ins.
 //! - [`least_squares`]: Levenberg–Marquardt with the covariance of the estimate.
-//! - [`psd`]: the positive-semidefinite part of an element's Hessian (projected Newton).
 //! - [`quadrature`]: Gauss–Legendre rules on [0, 1].
 //! - [`statistics`]: the mean of an ensemble and its Student-t 95 % confidence interval.
 //! - [`divided_power`]: the divided difference of a power, accurate at repeated arguments.
 
 pub mod least_squares;
 pub mod newton;
-pub mod psd;
 pub mod quadrature;
 pub mod sparse;
 pub mod statistics;
