@@ -79,6 +79,9 @@ pub struct InnerTable {
     nx: usize,
     /// x beyond which G(d, x) no longer changes for any tabulated d, nm
     x_end: f64,
+    /// for each row, the first column (nm) from which G no longer changes along the row and
+    /// the next (at most `x_end`)
+    flat_from: Vec<f64>,
     /// (G, G_d, G_x, G_dx) at row i, column j: index i·nx + j
     data: Vec<[f64; 4]>,
 }
@@ -160,6 +163,16 @@ impl InnerTable {
                 .collect()
         };
         let data = (0..nd).into_par_iter().flat_map_iter(row).collect();
+        // one column past the row's reach, so that a reach rounded down cannot leave a cell
+        // whose integrand is not exactly zero
+        let flat_from = (0..nd)
+            .map(|i| {
+                let d = row_d(i);
+                let reach = (rc * rc - d * d).max(0.0).sqrt();
+                let column = ((reach / hx).ceil() as usize + 1).min(nx - 1);
+                (column as f64 * hx).min(x_end)
+            })
+            .collect();
         InnerTable {
             r_sum,
             rc,
@@ -172,6 +185,7 @@ impl InnerTable {
             hx,
             nx,
             x_end,
+            flat_from,
             data,
         }
     }
@@ -189,31 +203,69 @@ impl InnerTable {
     /// [G, G_d, G_x, G_dd, G_dx, G_xx] at axis distance `d` and axial coordinate `x` (nm);
     /// the last three are left 0 unless `second`.
     pub fn eval(&self, d: f64, x: f64, second: bool) -> Derivs {
-        let mut out = [0.0; 6];
         if d >= self.rc {
-            return out;
+            return [0.0; 6];
         }
+        self.eval_in(&self.row(d), x, second)
+    }
+
+    /// [`eval`](Self::eval) at axial coordinate `x` in the row cell `row` of an axis distance
+    /// below the cutoff: where G is flat in x ([`Self::flat`]) the last column alone, Hermite
+    /// in d, at a quarter of the look-ups; else the tensor-product Hermite cell.
+    pub fn eval_in(&self, row: &RowCell, x: f64, second: bool) -> Derivs {
         let (ax, sign) = if x < 0.0 { (-x, -1.0) } else { (x, 1.0) };
-        let (i, dw) = self.row_weights(d);
-        // x: Hermite in the cell, or the last column's value beyond x_end (where G_x ≡ 0)
-        let (j, xw) = if ax >= self.x_end {
-            let mut w = [[0.0; 4]; 3];
-            w[0][2] = 1.0;
-            (self.nx - 2, w)
+        let mut out = if self.flat(row, x) {
+            self.eval_flat(row, second)
         } else {
-            let j = ((ax / self.hx) as usize).min(self.nx - 2);
-            (j, hermite(ax / self.hx - j as f64, self.hx))
+            self.eval_cell(row, ax, second)
         };
-        // tensor-product evaluation: along x on the two rows (for G and for G_d), then along d
+        // odd in x: G, G_d, G_dd and G_xx change sign with x, G_x and G_dx do not
+        for k in [0, 1, 3, 5] {
+            out[k] *= sign;
+        }
+        out
+    }
+
+    /// Whether G no longer depends on x at |`x`| in the cell `row`: beyond the reach
+    /// √(r_c² − d²) of the cutoff from the cell's closer row (the farther row reaches less),
+    /// where every column holds the same G and G_d and a zero G_x and G_dx.
+    pub fn flat(&self, row: &RowCell, x: f64) -> bool {
+        x.abs() >= self.flat_from[row.i]
+    }
+
+    /// G and its derivatives at |x| where G is flat in x: the last column, Hermite in d.
+    fn eval_flat(&self, row: &RowCell, second: bool) -> Derivs {
+        let mut out = [0.0; 6];
+        let last = self.nx - 1;
+        let orders: &[(usize, usize)] = if second {
+            &[(0, 0), (1, 1), (2, 3)]
+        } else {
+            &[(0, 0), (1, 1)]
+        };
+        for &(kd, o) in orders {
+            for a in 0..2 {
+                let [g, gd, _, _] = self.data[(row.i + a) * self.nx + last];
+                out[o] += row.w[kd][2 * a] * g + row.w[kd][2 * a + 1] * gd;
+            }
+        }
+        out
+    }
+
+    /// G and its derivatives at `ax` ≥ 0 by the tensor-product Hermite cell: along x on the
+    /// two rows (for G and for G_d), then along d.
+    fn eval_cell(&self, row: &RowCell, ax: f64, second: bool) -> Derivs {
+        let mut out = [0.0; 6];
+        let j = ((ax / self.hx) as usize).min(self.nx - 2);
+        let xw = hermite(ax / self.hx - j as f64, self.hx);
         let kx_max = if second { 3 } else { 2 };
         let mut along_x = [[[0.0; 3]; 2]; 2]; // [row a][G or G_d][x-derivative order]
-        for (a, row) in along_x.iter_mut().enumerate() {
+        for (a, r) in along_x.iter_mut().enumerate() {
             for b in 0..2 {
-                let [g, gd, gx, gdx] = self.data[(i + a) * self.nx + j + b];
+                let [g, gd, gx, gdx] = self.data[(row.i + a) * self.nx + j + b];
                 for k in 0..kx_max {
                     let (xv, xd) = (xw[k][2 * b], xw[k][2 * b + 1]);
-                    row[0][k] += xv * g + xd * gx;
-                    row[1][k] += xv * gd + xd * gdx;
+                    r[0][k] += xv * g + xd * gx;
+                    r[1][k] += xv * gd + xd * gdx;
                 }
             }
         }
@@ -223,64 +275,46 @@ impl InnerTable {
             &[(0, 0), (1, 0), (0, 1)]
         };
         for (o, &(kd, kx)) in out.iter_mut().zip(orders) {
-            for (a, row) in along_x.iter().enumerate() {
-                *o += dw[kd][2 * a] * row[0][kx] + dw[kd][2 * a + 1] * row[1][kx];
-            }
-        }
-        // odd in x: G, G_d, G_dd and G_xx change sign with x, G_x and G_dx do not
-        for k in [0, 1, 3, 5] {
-            out[k] *= sign;
-        }
-        out
-    }
-
-    /// [`eval`](Self::eval) at x ≥ `x_end`, where G no longer depends on x: the last column
-    /// alone, Hermite in d (G_x, G_dx and G_xx are 0). The same numbers as `eval` there, at a
-    /// quarter of the look-ups: the points of a long contact away from the partner's ends.
-    pub fn eval_beyond(&self, d: f64, second: bool) -> Derivs {
-        let mut out = [0.0; 6];
-        if d >= self.rc {
-            return out;
-        }
-        let (i, dw) = self.row_weights(d);
-        let last = self.nx - 1;
-        let orders: &[(usize, usize)] = if second {
-            &[(0, 0), (1, 1), (2, 3)]
-        } else {
-            &[(0, 0), (1, 1)]
-        };
-        for &(kd, o) in orders {
-            for a in 0..2 {
-                let [g, gd, _, _] = self.data[(i + a) * self.nx + last];
-                out[o] += dw[kd][2 * a] * g + dw[kd][2 * a + 1] * gd;
+            for (a, r) in along_x.iter().enumerate() {
+                *o += row.w[kd][2 * a] * r[0][kx] + row.w[kd][2 * a + 1] * r[1][kx];
             }
         }
         out
     }
 
-    /// Whether G(d, x) is independent of x (x ≥ `x_end`, for every tabulated d).
-    pub fn beyond_reach(&self, x: f64) -> bool {
-        x >= self.x_end
-    }
-
-    /// The first row and the Hermite weights in d (value, first and second derivative) at
+    /// The row cell and the Hermite weights in d (value, first and second derivative) at
     /// axis distance `d`; below the floor, the first row continued linearly.
-    fn row_weights(&self, d: f64) -> (usize, [[f64; 4]; 3]) {
+    pub fn row(&self, d: f64) -> RowCell {
         if d < self.d_min {
             let mut w = [[0.0; 4]; 3];
             w[0][0] = 1.0;
             w[0][1] = d - self.d_min;
             w[1][1] = 1.0;
-            (0, w)
+            RowCell { i: 0, w }
         } else if d < self.d_fine {
             let i = (((d - self.d_min) / self.hc) as usize).min(self.nc - 1);
-            (i, hermite((d - self.d_min) / self.hc - i as f64, self.hc))
+            RowCell {
+                i,
+                w: hermite((d - self.d_min) / self.hc - i as f64, self.hc),
+            }
         } else {
             let k = (((d - self.d_fine) / self.hd) as usize).min(self.nd - self.nc - 2);
             let u = (d - self.d_fine) / self.hd - k as f64;
-            (self.nc + k, hermite(u, self.hd))
+            RowCell {
+                i: self.nc + k,
+                w: hermite(u, self.hd),
+            }
         }
     }
+}
+
+/// The part of a look-up at one axis distance that the two look-ups of a point (at x = s and
+/// x = L − s) share: the table's row cell and its Hermite weights in d.
+pub struct RowCell {
+    /// the cell's first (closer) row
+    i: usize,
+    /// Hermite weights in d: for the value, the first and the second derivative
+    w: [[f64; 4]; 3],
 }
 
 type M3 = [[f64; 3]; 3];
@@ -473,14 +507,12 @@ pub fn energy_segment_segment_tabulated(
         let off = s - s.clamp(0.0, len);
         out.point_pairs += 1;
         out.min_gap = out.min_gap.min((d2 + off * off).sqrt() - r_sum);
-        let (far, near) = if table.beyond_reach(s) && table.beyond_reach(len - s) {
-            let g = table.eval_beyond(d, want_hessian);
-            (g, g)
+        let row = table.row(d);
+        let far = table.eval_in(&row, len - s, want_hessian);
+        let near = if (0.0..=len).contains(&s) && table.flat(&row, s) && table.flat(&row, len - s) {
+            far
         } else {
-            (
-                table.eval(d, len - s, want_hessian),
-                table.eval(d, s, want_hessian),
-            )
+            table.eval_in(&row, s, want_hessian)
         };
         let f = first_derivatives(&far, &near, len);
         let p = AxisPoint::new(d, s, len, [eh.x, eh.y, eh.z], [rp.x, rp.y, rp.z]);
@@ -620,28 +652,47 @@ mod tests {
         }
     }
 
-    /// Beyond the reach of the cutoff the one-column look-up gives `eval`'s numbers, bit for
-    /// bit, in the coarse and fine rows, below the floor and beyond the cutoff.
+    /// Where G is flat in x (past the reach of the cutoff from the cell's closer row) the
+    /// one-column look-up gives the Hermite cell's numbers: the cell's columns hold the same G
+    /// and G_d and a zero G_x and G_dx, so the two differ only by the round-off of Hermite
+    /// weights that sum to 1 (value) or 0 (derivatives) — at most a few ulps of G and G_d
+    /// times 1/h_x per x-derivative. Checked in coarse and fine rows and below the floor, from
+    /// the first flat column to past the table's end; and flatness starts well before x_end
+    /// at contact gaps (the speed-up), but not before the reach.
     #[test]
-    fn the_look_up_beyond_reach_is_eval_there() {
+    fn where_g_is_flat_in_x_the_one_column_look_up_is_the_hermite_cell() {
         let (_, table, _) = setup();
-        for &gap in &[-2.7, -1.3, -0.2, 0.34, 1.9, 3.3, 5.0] {
-            for &x in &[table.x_end, table.x_end + 0.013, 80.0] {
-                let d = R_SUM + gap;
-                assert!(table.beyond_reach(x));
-                assert_eq!(
-                    table.eval_beyond(d, true),
-                    table.eval(d, x, true),
-                    "{gap} {x}"
-                );
-                assert_eq!(
-                    table.eval_beyond(d, false),
-                    table.eval(d, x, false),
-                    "{gap} {x}"
-                );
+        let mut checked = 0;
+        for &gap in &[-2.7, -1.3, -0.2, 0.213, 0.34, 0.9, 1.9, 2.4] {
+            let d = R_SUM + gap;
+            let row = table.row(d);
+            let from = table.flat_from[row.i];
+            let reach = (table.rc * table.rc - d * d).max(0.0).sqrt();
+            assert!(from >= reach.min(table.x_end), "gap {gap}: flat from {from} < reach {reach}");
+            for k in 0..40 {
+                let x = from + k as f64 * 0.37 * table.hx;
+                if x >= table.x_end {
+                    break;
+                }
+                let (flat, cell) = (table.eval_flat(&row, true), table.eval_cell(&row, x, true));
+                // the row data's size, and each derivative's division by the spacings
+                let h = if row.i < table.nc { table.hc } else { table.hd };
+                let [g0, gd0, ..] = table.data[(row.i + 1) * table.nx - 1];
+                let size = g0.abs() + h * gd0.abs();
+                for (o, (f, c)) in flat.iter().zip(&cell).enumerate() {
+                    let (kd, kx) = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)][o];
+                    let tol = 1e-14 * size / (h.powi(kd) * table.hx.powi(kx));
+                    assert!((f - c).abs() <= tol, "gap {gap}, x {x}, derivative {o}: {f} vs {c}");
+                }
+                assert!(table.flat(&row, x) && table.flat(&row, -x));
+                checked += 1;
             }
+            assert!(!table.flat(&row, 0.99 * from));
         }
-        assert!(!table.beyond_reach(0.99 * table.x_end));
+        assert!(checked > 100, "{checked}");
+        // at a contact gap the look-up is flat from ≈ the reach, well before the table's end
+        let row = table.row(R_SUM + 0.34);
+        assert!(table.flat_from[row.i] < 0.8 * table.x_end, "{} vs {}", table.flat_from[row.i], table.x_end);
     }
 
     /// Two parallel straight axes at the calibrated distance: each point of the shorter one
