@@ -172,7 +172,7 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
             d.params,
             &mut d.ev.cost.factorizations,
         )?;
-        self.slope = d.free.iter().zip(&step).map(|(&k, p)| d.grad[k] * p).sum();
+        self.slope = d.slope_along(&step);
         self.scale = d.free.iter().map(|&k| (d.grad[k] * x[k]).abs()).sum();
         Ok(step)
     }
@@ -315,11 +315,13 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
     }
 
     /// From the full step taken, double it while the energy keeps falling (up to
-    /// [`MAX_EXPANSION`] times the step).
+    /// [`MAX_EXPANSION`] times the step) — tried only while the energy still falls along the
+    /// step where it stands (gᵀp < 0 with the gradient already in hand): where it has started
+    /// to rise, a doubled step almost never lowers it, and each trial costs an evaluation.
     fn expand(&mut self, x: &mut [f64], step: &[f64]) {
         let mut alpha = 1.0;
         let mut expand = 2.0;
-        while expand <= MAX_EXPANSION {
+        while expand <= MAX_EXPANSION && self.slope_along(step) < 0.0 {
             for (&d, p) in self.free.iter().zip(step) {
                 self.trial[d] = x[d] + (expand - alpha) * p;
             }
@@ -333,6 +335,15 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
             alpha = expand;
             expand *= 2.0;
         }
+    }
+
+    /// gᵀp at the current iterate along `step` (over the free coordinates).
+    fn slope_along(&self, step: &[f64]) -> f64 {
+        self.free
+            .iter()
+            .zip(step)
+            .map(|(&k, p)| self.grad[k] * p)
+            .sum()
     }
 
     /// Move to the trial point, of energy `e_trial`.

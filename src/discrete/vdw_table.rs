@@ -75,12 +75,11 @@ pub struct InnerTable {
     nd: usize,
     /// column spacing, nm
     hx: f64,
-    /// number of columns (the first at x = 0, the last at `x_end`)
+    /// number of columns (the first at x = 0, the last at the reach √(r_c² − d²) of the first row)
     nx: usize,
-    /// x beyond which G(d, x) no longer changes for any tabulated d, nm
-    x_end: f64,
     /// for each row, the first column (nm) from which G no longer changes along the row and
-    /// the next (at most `x_end`)
+    /// the next (at most the last column's, beyond which G(d, x) no longer changes for any
+    /// tabulated d)
     flat_from: Vec<f64>,
     /// (G, G_d, G_x, G_dx) at row i, column j: index i·nx + j
     data: Vec<[f64; 4]>,
@@ -184,7 +183,6 @@ impl InnerTable {
             nd,
             hx,
             nx,
-            x_end,
             flat_from,
             data,
         }
@@ -662,16 +660,20 @@ mod tests {
     #[test]
     fn where_g_is_flat_in_x_the_one_column_look_up_is_the_hermite_cell() {
         let (_, table, _) = setup();
+        let x_end = (table.nx - 1) as f64 * table.hx;
         let mut checked = 0;
         for &gap in &[-2.7, -1.3, -0.2, 0.213, 0.34, 0.9, 1.9, 2.4] {
             let d = R_SUM + gap;
             let row = table.row(d);
             let from = table.flat_from[row.i];
             let reach = (table.rc * table.rc - d * d).max(0.0).sqrt();
-            assert!(from >= reach.min(table.x_end), "gap {gap}: flat from {from} < reach {reach}");
+            assert!(
+                from >= reach.min(x_end),
+                "gap {gap}: flat from {from} < reach {reach}"
+            );
             for k in 0..40 {
                 let x = from + k as f64 * 0.37 * table.hx;
-                if x >= table.x_end {
+                if x >= x_end {
                     break;
                 }
                 let (flat, cell) = (table.eval_flat(&row, true), table.eval_cell(&row, x, true));
@@ -682,7 +684,10 @@ mod tests {
                 for (o, (f, c)) in flat.iter().zip(&cell).enumerate() {
                     let (kd, kx) = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)][o];
                     let tol = 1e-14 * size / (h.powi(kd) * table.hx.powi(kx));
-                    assert!((f - c).abs() <= tol, "gap {gap}, x {x}, derivative {o}: {f} vs {c}");
+                    assert!(
+                        (f - c).abs() <= tol,
+                        "gap {gap}, x {x}, derivative {o}: {f} vs {c}"
+                    );
                 }
                 assert!(table.flat(&row, x) && table.flat(&row, -x));
                 checked += 1;
@@ -692,7 +697,11 @@ mod tests {
         assert!(checked > 100, "{checked}");
         // at a contact gap the look-up is flat from ≈ the reach, well before the table's end
         let row = table.row(R_SUM + 0.34);
-        assert!(table.flat_from[row.i] < 0.8 * table.x_end, "{} vs {}", table.flat_from[row.i], table.x_end);
+        assert!(
+            table.flat_from[row.i] < 0.8 * x_end,
+            "{} vs {x_end}",
+            table.flat_from[row.i]
+        );
     }
 
     /// Two parallel straight axes at the calibrated distance: each point of the shorter one
