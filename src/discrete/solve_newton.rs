@@ -8,7 +8,8 @@
 //! Optimization, Alg. 3.3, with the shift remembered across iterations: a descent through an
 //! indefinite region does not pay a failed unshifted factorisation, nor climb from 1e-10 · max|H_kk|,
 //! at every iteration). The step p solves (H + μI) p = −g, a descent direction; the step length α
-//! halves from 1 until E(x + αp) ≤ E(x) + c₁ α gᵀp (Armijo), or — once energy differences sink
+//! shortens from 1 — to the minimiser of the cubic through the energy and slope at 0 and at
+//! the rejected trial, within [α/10, α/2] — until E(x + αp) ≤ E(x) + c₁ α gᵀp (Armijo), or — once energy differences sink
 //! into round-off — until the residual decreases. A shifted step accepted at α = 1 is doubled
 //! while the energy keeps falling (up to [`MAX_EXPANSION`] times): the shift holds the step along
 //! soft directions to about |g|/μ, often far short of where the energy stops falling.
@@ -181,6 +182,18 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
         self.d.try_step(x, step, alpha, self.slope, self.scale)
     }
 
+    /// The minimiser of the cubic through the energy and slope at 0 and at the rejected `s`
+    /// (Nocedal & Wright, Numerical Optimization, eq. 3.59), kept within [s/10, s/2]; half of
+    /// `s` after a non-finite trial.
+    fn shorter(&self, s: f64) -> f64 {
+        match self.d.rejected {
+            Some((alpha, e1, slope1)) if alpha == s => {
+                cubic_step(self.d.energy, self.slope, s, e1, slope1).clamp(0.1 * s, 0.5 * s)
+            }
+            _ => 0.5 * s,
+        }
+    }
+
     /// Past an instability the shift limits the step along the soft directions to about
     /// |g|/μ, and the energy keeps falling well beyond it: double the step while it does.
     fn stepped(&mut self, x: &mut [f64], step: &[f64], alpha: f64) {
@@ -251,6 +264,8 @@ struct Descent<'a, E: EnergyTerm + ?Sized> {
     residual: f64,
     trial: Vec<f64>,
     grad_trial: Vec<f64>,
+    /// the last rejected trial with a finite energy: (α, E, slope along the step there)
+    rejected: Option<(f64, f64, f64)>,
 }
 
 impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
@@ -275,6 +290,7 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
             residual,
             trial: x.to_vec(),
             grad_trial: vec![0.0; x.len()],
+            rejected: None,
         })
     }
 
@@ -293,6 +309,7 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
         for (&d, p) in self.free.iter().zip(step) {
             self.trial[d] += alpha * p;
         }
+        self.rejected = None;
         let e_trial = match self.ev.eval(&self.trial, &mut self.grad_trial) {
             Ok(e) => e,
             Err(SolveError::NonFinite { .. }) => {
@@ -308,6 +325,13 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
             self.take(x, e_trial);
             return Ok(Trial::Accepted);
         }
+        let slope_trial = self
+            .free
+            .iter()
+            .zip(step)
+            .map(|(&k, p)| self.grad_trial[k] * p)
+            .sum();
+        self.rejected = Some((alpha, e_trial, slope_trial));
         Ok(Trial::Rejected(format!(
             "energy {:.6e} → {e_trial:.6e}",
             self.energy
@@ -352,6 +376,27 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
         std::mem::swap(&mut self.grad, &mut self.grad_trial);
         self.energy = e_trial;
         self.residual = self.fixed.residual(&self.grad);
+    }
+}
+
+/// The minimiser in (0, s) of the cubic with value `e0` and slope `slope0` < 0 at 0, `e1` and
+/// `slope1` at `s` (Nocedal & Wright eq. 3.59); where the cubic has no minimiser there, the
+/// minimiser of the quadratic through `e0`, `slope0` and `e1`.
+fn cubic_step(e0: f64, slope0: f64, s: f64, e1: f64, slope1: f64) -> f64 {
+    let d1 = slope0 + slope1 - 3.0 * (e0 - e1) / (0.0 - s);
+    let disc = d1 * d1 - slope0 * slope1;
+    if disc >= 0.0 {
+        let d2 = disc.sqrt();
+        let a = s - s * (slope1 + d2 - d1) / (slope1 - slope0 + 2.0 * d2);
+        if a.is_finite() && a > 0.0 && a < s {
+            return a;
+        }
+    }
+    let q = -slope0 * s * s / (2.0 * (e1 - e0 - slope0 * s));
+    if q.is_finite() && q > 0.0 {
+        q
+    } else {
+        0.5 * s
     }
 }
 
@@ -513,6 +558,21 @@ pub fn is_local_minimum<E: EnergyTerm + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The interpolated step is the exact minimiser when the energy along the step is a
+    /// quadratic or a cubic, and a fallback where the cubic has no minimiser inside.
+    #[test]
+    fn the_cubic_step_finds_the_minimiser_of_a_quadratic_and_of_a_cubic() {
+        // φ = (α − 0.3)² − 0.09
+        let a = cubic_step(0.0, -0.6, 1.0, 0.4, 1.4);
+        assert!((a - 0.3).abs() < 1e-12, "{a}");
+        // φ = α³ − α, minimum at 1/√3
+        let a = cubic_step(0.0, -1.0, 1.0, 0.0, 2.0);
+        assert!((a - 1.0 / 3f64.sqrt()).abs() < 1e-12, "{a}");
+        // φ = −α + 2α² on a step of 2: the quadratic's minimiser 0.25
+        let a = cubic_step(0.0, -1.0, 2.0, 6.0, 7.0);
+        assert!((a - 0.25).abs() < 1e-12, "{a}");
+    }
 
     /// A quartic double well in 2D, E = (x² − 1)² + 2 y² − x y: indefinite Hessian at the origin.
     struct Well;

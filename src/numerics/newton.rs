@@ -143,6 +143,12 @@ pub trait NewtonProblem {
     /// Try x + s·direction: on [`Trial::Accepted`] the problem has moved `x` there.
     fn try_step(&mut self, x: &mut [f64], direction: &[f64], s: f64) -> Result<Trial, Self::Error>;
 
+    /// The step length to try after `s` was rejected: half of it, unless the problem
+    /// interpolates what it learnt at `s`.
+    fn shorter(&self, s: f64) -> f64 {
+        0.5 * s
+    }
+
     /// Every halving was rejected: true if the problem moved `x` to a point it takes anyway
     /// (the iteration goes on), false to fail with [`NewtonError::LineSearch`].
     fn exhausted(&mut self, _x: &mut [f64]) -> bool {
@@ -204,7 +210,7 @@ pub fn solve<P: NewtonProblem + ?Sized>(
                 }
                 Trial::Rejected(why) => reason = why,
             }
-            s *= 0.5;
+            s = problem.shorter(s);
             info.backtracks += 1;
         }
         if !taken {
