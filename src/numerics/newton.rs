@@ -5,10 +5,10 @@
 //! converged ([`NewtonParams::converged`]); else ask the problem for a direction d (its own
 //! linear algebra: sparse LU or Cholesky, a shifted Cholesky past an instability, a dense LU,
 //! a bordered solve) and try x + s d with s from the problem's first step (1, or less where the
-//! problem caps the change), halving s until the problem accepts the trial (its merit: Armijo on
-//! an energy, [`armijo`], or a decrease of ‖r‖). What a problem decides — the norm, the
-//! direction, the merit, what to do when every halving fails, a step past the accepted one —
-//! is a plug-in ([`NewtonProblem`]); the loop, its counts and its errors are here.
+//! problem caps the change), shortening s (halving it, unless the problem interpolates) until the
+//! problem accepts the trial (its merit: Armijo on an energy, [`armijo`], or a decrease of ‖r‖).
+//! What a problem decides — the norm, the direction, the merit, how much shorter the next trial
+//! is, what to do when every shortening fails, a step past the accepted one — is a plug-in ([`NewtonProblem`]); the loop, its counts and its errors are here.
 
 use serde::{Deserialize, Serialize};
 
