@@ -184,10 +184,17 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
 
     /// The minimiser of the cubic through the energy and slope at 0 and at the rejected `s`
     /// (Nocedal & Wright, Numerical Optimization, eq. 3.59), kept within [s/10, s/2]; half of
-    /// `s` after a non-finite trial.
+    /// `s` after a non-finite trial, and where the energy change is within a hundred times its
+    /// round-off (the cubic would fit noise; there the trials are judged on the residual).
     fn shorter(&self, s: f64) -> f64 {
         match self.d.rejected {
-            Some((alpha, e1, slope1)) if alpha == s => {
+            Some((alpha, e1, slope1))
+                if alpha == s
+                    && (e1 - self.d.energy).abs()
+                        > 100.0
+                            * ENERGY_NOISE
+                            * (self.d.energy.abs().max(e1.abs()) + self.scale) =>
+            {
                 cubic_step(self.d.energy, self.slope, s, e1, slope1).clamp(0.1 * s, 0.5 * s)
             }
             _ => 0.5 * s,
