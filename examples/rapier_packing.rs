@@ -7,14 +7,14 @@
 //! `cargo run --release --features rapier --example rapier_packing -- SCENE [key=value ...]`
 //! with keys `set` (a scene override, `set=turf.box=["1 um","1 um"]`, repeatable),
 //! `realisation`, `densities` (comma-separated, 10¹⁰ /cm²), `shrink`, `hold`, `clearance`,
-//! `damping`, `iterations`, `stability`, `relax` (0/1), `dump` (a folder: the packed nodes as
+//! `damping`, `iterations`, `stability`, `bending` (springs, torques, off), `relax` (0/1), `dump` (a folder: the packed nodes as
 //! CSV per state). One line per target on stdout.
 
 use std::path::Path;
 use std::time::Instant;
 use turf::discrete::model::{relax, TurfSystem};
 use turf::discrete::platen::DEFAULT_WALL_STIFFNESS;
-use turf::discrete::rapier_packing::{min_surface_gap, pack_turf, PackingParams};
+use turf::discrete::rapier_packing::{min_surface_gap, pack_turf, Bending, PackingParams};
 use turf::discrete::turf::Turf;
 
 /// 10¹⁰ tubes/cm² in tubes/nm².
@@ -45,6 +45,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Some(("iterations", v)) => p.solver_iterations = v.parse()?,
             Some(("stability", v)) => p.stability = v.parse()?,
             Some(("relax", v)) => do_relax = v == "1",
+            Some(("bending", v)) => {
+                p.bending = match v {
+                    "springs" => Bending::JointSprings,
+                    "torques" => Bending::Torques,
+                    "off" => Bending::Off,
+                    _ => return Err(format!("bending: springs, torques or off, not {v}").into()),
+                }
+            }
             Some(("dump", v)) => dump = Some(v.to_string()),
             _ => return Err(format!("unknown argument {a}").into()),
         }
@@ -83,6 +91,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 hi = hi.max(n[0].max(n[1]));
             }
         }
+        eprintln!(
+            "{:.3}e10 /cm²: smallest gap {:.3} nm at {:?}",
+            st.density / PER_1E10_CM2,
+            st.min_gap,
+            min_surface_gap(&st.turf).1
+        );
         if let Some(dir) = &dump {
             let mut text = String::from("tube,node,x,y,z\n");
             for (i, t) in st.turf.tubes.iter().enumerate() {

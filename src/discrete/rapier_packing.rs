@@ -6,10 +6,14 @@
 //! The model: each segment of a tube is a rigid capsule of radius r_o + c/2 (c the clearance,
 //! by default the van der Waals equilibrium gap, so capsules touching means surfaces at that
 //! gap), the segments of a tube joined by spherical impulse joints, the base segment (the two
-//! clamped nodes of the static model) a fixed body, no gravity. Bending is resisted by the
+//! clamped nodes of the static model) a body that keeps its orientation and height but slides
+//! on the substrate (the bases must make room for each other as the box shrinks), no gravity. Bending is resisted by the
 //! discrete elastica's vertex energy W_i = K/(ℓ_{i−1} + ℓ_i) |κb_i − κb_i⁰|² about the
-//! as-grown shape ([`super::rod_kernels::bend_vertex_gradient`]), applied as torques
-//! τ_j = ∂W/∂e_j × e_j on the segments' edge vectors e_j. Tubes meet only through rapier's
+//! as-grown shape: by default as its small-angle spring, K/ℓ̄ per radian, in position motors of
+//! the joints (implicit, so stable at any step: [`Bending::JointSprings`]); or exactly
+//! ([`super::rod_kernels::bend_vertex_gradient`]) as torques τ_j = ∂W/∂e_j × e_j on the
+//! segments' edge vectors e_j ([`Bending::Torques`], explicit: stable only for a small
+//! `stability`). Tubes meet only through rapier's
 //! capsule contacts (frictionless, no adhesion: the van der Waals attraction is left to the
 //! static relaxation).
 //!
@@ -61,6 +65,20 @@ pub struct PackingParams {
     pub solver_iterations: usize,
     /// the packing stops when a joint opens wider than this, nm (the chains tear)
     pub max_joint_gap: f64,
+    /// how the chains resist bending
+    pub bending: Bending,
+}
+
+/// How a chain resists bending at its joints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bending {
+    /// angular position motors of the spherical joints (implicit springs in rapier's solver,
+    /// stiffness K/ℓ̄ per radian about the as-grown relative orientation, critically damped)
+    JointSprings,
+    /// explicit torques of the elastica's vertex energy (stable only for small `stability`)
+    Torques,
+    /// freely jointed chains
+    Off,
 }
 
 impl Default for PackingParams {
@@ -74,6 +92,7 @@ impl Default for PackingParams {
             damping: 10.0,
             solver_iterations: 8,
             max_joint_gap: 1.0,
+            bending: Bending::JointSprings,
         }
     }
 }
@@ -172,6 +191,7 @@ struct World {
     ly: f64,
     /// mass and rotational inertia of every free body
     mass: (f64, f64),
+    bending: Bending,
 }
 
 /// Shift each tube by whole periods so that its base lies in [0, L_x) × [0, L_y).
@@ -229,29 +249,42 @@ impl World {
             for (j, w) in pts.windows(2).enumerate() {
                 let mid = 0.5 * (w[0] + w[1]);
                 let (a, b) = (w[0] - mid, w[1] - mid);
-                let builder = if j == 0 {
-                    RigidBodyBuilder::fixed()
-                } else {
-                    RigidBodyBuilder::dynamic()
-                        .additional_mass_properties(MassProperties::new(
-                            Vector::ZERO,
-                            mass,
-                            Vector::splat(inertia),
-                        ))
-                        .linear_damping(p.damping)
-                        .angular_damping(p.damping)
-                        .can_sleep(false)
-                };
+                let mut builder = RigidBodyBuilder::dynamic()
+                    .additional_mass_properties(MassProperties::new(
+                        Vector::ZERO,
+                        mass,
+                        Vector::splat(inertia),
+                    ))
+                    .linear_damping(p.damping)
+                    .angular_damping(p.damping)
+                    .can_sleep(false);
+                if j == 0 {
+                    // the clamp slides on the substrate: no rotation, no lift
+                    builder = builder
+                        .lock_rotations()
+                        .enabled_translations(true, true, false);
+                }
                 let collider = ColliderBuilder::capsule_from_endpoints(a, b, radius)
                     .density(0.0)
                     .friction(0.0)
                     .collision_groups(real_groups);
                 let (h, _) = world.insert(builder.translation(mid), collider);
-                if let (Some(&prev), Some(&(_, top_prev))) = (bodies.last(), ends.last()) {
-                    let joint = SphericalJointBuilder::new()
+                if let (Some(&prev), Some(&(bot_prev, top_prev))) = (bodies.last(), ends.last()) {
+                    let mut joint = SphericalJointBuilder::new()
                         .local_anchor1(top_prev)
                         .local_anchor2(a)
                         .contacts_enabled(false);
+                    if p.bending == Bending::JointSprings {
+                        // W ≈ K/(ℓ_e + ℓ_f) φ² for small angles: a spring K/ℓ̄ per radian
+                        let l_mean = 0.5 * ((top_prev - bot_prev).length() + (b - a).length());
+                        let k = s.bending / l_mean;
+                        let c = 2.0 * (k * inertia).sqrt();
+                        for axis in [JointAxis::AngX, JointAxis::AngY, JointAxis::AngZ] {
+                            joint = joint
+                                .motor_model(axis, MotorModel::ForceBased)
+                                .motor_position(axis, 0.0, k, c);
+                        }
+                    }
                     world.insert_impulse_joint(prev, h, joint);
                 }
                 bodies.push(h);
@@ -280,6 +313,7 @@ impl World {
             lx,
             ly,
             mass: (mass, inertia),
+            bending: p.bending,
         };
         w.add_ghosts(&tubes, p, l_min);
         Ok(w)
@@ -364,7 +398,7 @@ impl World {
             let pose = *self.world.bodies[g.body].position();
             let offset = Vector::new(g.shift[0] * self.lx, g.shift[1] * self.ly, 0.0);
             let ghost = &mut self.world.bodies[g.handle];
-            ghost.set_position(Pose::from_parts(pose.translation + offset, pose.rotation), false);
+            ghost.set_position(Pose::from_parts(pose.translation + offset, pose.rotation), true);
         }
     }
 
@@ -398,7 +432,9 @@ impl World {
         if let Some(s) = remap {
             self.remap(s);
         }
-        self.apply_bending();
+        if self.bending == Bending::Torques {
+            self.apply_bending();
+        }
         self.place_ghosts();
         self.world.step();
     }
@@ -422,7 +458,7 @@ impl World {
             for j in 0..seg.len() {
                 let top = seg[j].1;
                 let node = match seg.get(j + 1) {
-                    // the clamped pair (nodes 0, 1) stays exact: the base segment is fixed
+                    // the clamped pair (nodes 0, 1) stays exact: the base segment stays rigid
                     Some(next) if j > 0 => {
                         gap = gap.max((next.0 - top).length());
                         0.5 * (top + next.0)
@@ -485,6 +521,9 @@ pub fn pack_turf(turf: &Turf, youngs: f64, p: &PackingParams) -> Result<Packing,
             steps += 1;
             if steps % 200 == 0 {
                 let (_, gap) = w.turf();
+                if std::env::var_os("TURF_PACK_TRACE").is_some() {
+                    eprintln!("step {steps} box {:.2} joint gap {gap:.3e}", w.lx);
+                }
                 if gap > p.max_joint_gap || !gap.is_finite() {
                     stopped = Some(format!(
                         "a joint opened {gap:.3} nm at {:.3e} /nm² (box {:.1} nm)",
@@ -522,11 +561,22 @@ pub fn pack_turf(turf: &Turf, youngs: f64, p: &PackingParams) -> Result<Packing,
     })
 }
 
+/// Where the smallest gap of [`min_surface_gap`] lies.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GapPair {
+    /// the two tubes
+    pub tubes: (usize, usize),
+    /// the image shift of the second, in box periods
+    pub shift: [i64; 2],
+    /// the closest point on the first tube's axis, nm
+    pub at: [f64; 3],
+}
+
 /// Smallest surface gap (nm) between the tubes of `turf` over all periodic images (any shift,
 /// not only the nearest), axes as segments with the tubes' outer radii; a tube with its own
 /// image counts, segments of one tube with each other do not. Negative: interpenetration. Also
 /// the pair of tubes where it occurs.
-pub fn min_surface_gap(turf: &Turf) -> (f64, Option<(usize, usize)>) {
+pub fn min_surface_gap(turf: &Turf) -> (f64, Option<GapPair>) {
     let (lx, ly) = (
         turf.periodic.lx.unwrap_or(f64::INFINITY),
         turf.periodic.ly.unwrap_or(f64::INFINITY),
@@ -597,7 +647,15 @@ pub fn min_surface_gap(turf: &Turf) -> (f64, Option<(usize, usize)>) {
                     let d = ((a.a * ua + a.b * va) - (b0 * ub + b1 * vb)).length();
                     let gap = d - a.r - b.r;
                     if gap < best.0 {
-                        best = (gap, Some((a.tube, b.tube)));
+                        let p = a.a * ua + a.b * va;
+                        best = (
+                            gap,
+                            Some(GapPair {
+                                tubes: (a.tube, b.tube),
+                                shift: [kx, ky],
+                                at: p.to_array(),
+                            }),
+                        );
                     }
                 }
             }
@@ -694,5 +752,48 @@ mod tests {
             pack_turf(&turf, 400.0, &p),
             Err(PackingError::Target { .. })
         ));
+    }
+}
+
+#[cfg(test)]
+mod probe {
+    use super::*;
+
+    #[test]
+    #[ignore]
+    fn bending_probe() {
+        for st in [0.5, 0.1, 0.02] {
+            let mut t = Tube {
+                nodes: (0..=10).map(|k| [500.0, 500.0, 200.0 * k as f64]).collect(),
+                radius_outer: 20.0,
+                radius_inner: 17.3,
+            };
+            for (k, n) in t.nodes.iter_mut().enumerate() {
+                n[0] += 50.0 * (k as f64 * 0.5).sin();
+            }
+            let turf = Turf {
+                tubes: vec![t],
+                periodic: PeriodicBox {
+                    lx: Some(1000.0),
+                    ly: Some(1000.0),
+                },
+            };
+            let p = PackingParams {
+                stability: st,
+                bending: if st < 0.3 { Bending::Torques } else { Bending::JointSprings },
+                ..PackingParams::default()
+            };
+            let mut w = World::build(&turf, 400.0, &p, 1000.0).unwrap();
+            // perturb: rotate the top segment
+            let h = w.chains[0].bodies[9];
+            w.world.bodies[h].set_angvel(Vector::new(0.0, 0.02, 0.0), true);
+            for k in 0..2000 {
+                w.step(None);
+                if k % 400 == 0 {
+                    let (tt, gap) = w.turf();
+                    eprintln!("st {st} step {k} gap {gap:.3e} top {:?}", tt.tubes[0].nodes[10]);
+                }
+            }
+        }
     }
 }
