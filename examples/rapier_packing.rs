@@ -77,20 +77,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         eprintln!("packing stopped: {why}");
     }
     println!(
-        "density_1e10cm2,box_nm,steps,pack_wall_s,joint_gap_nm,gap_packed_nm,\
+        "at_target,density_1e10cm2,box_nm,steps,pack_wall_s,joint_gap_nm,gap_packed_nm,\
          turf_gap_packed_nm,gap_relaxed_nm,turf_gap_relaxed_nm,relax_iterations,relax_wall_s,\
          extent_over_box,relax_note"
     );
     for st in &packing.states {
         let l = st.turf.periodic.lx.unwrap_or(0.0);
-        // how far the tubes reach, in box widths (turf's contacts search shifts −1, 0, 1)
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for t in &st.turf.tubes {
-            for n in &t.nodes {
-                lo = lo.min(n[0].min(n[1]));
-                hi = hi.max(n[0].max(n[1]));
-            }
-        }
+        // how far the tubes reach, in box widths (the larger of x and y)
+        let span = |d: usize| {
+            let (lo, hi) = st
+                .turf
+                .tubes
+                .iter()
+                .flat_map(|t| t.nodes.iter().map(move |n| n[d]))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                    (lo.min(v), hi.max(v))
+                });
+            hi - lo
+        };
+        let extent = span(0).max(span(1));
         eprintln!(
             "{:.3}e10 /cm²: smallest gap {:.3} nm at {:?}",
             st.density / PER_1E10_CM2,
@@ -140,7 +145,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             relax_s = t0.elapsed().as_secs_f64();
         }
         println!(
-            "{:.4},{:.2},{},{:.2},{:.2e},{:.3},{:.3},{:.3},{:.3},{},{:.2},{:.2},{}",
+            "{},{:.4},{:.2},{},{:.2},{:.2e},{:.3},{:.3},{:.3},{:.3},{},{:.2},{:.2},{}",
+            st.at_target,
             st.density / PER_1E10_CM2,
             l,
             st.steps,
@@ -152,7 +158,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             turf_after,
             iterations,
             relax_s,
-            (hi - lo) / l,
+            extent / l,
             note
         );
     }

@@ -8,9 +8,11 @@
 //! pair within ρ_a + ρ_b) until some node has moved more than skin/2 since the build, because a
 //! segment's points move no further than its farthest node ([`Broadphase::update`] rebuilds then).
 //!
-//! Periodic images use shifts s ∈ {−1, 0, 1} along each periodic axis, so tubes may leave the
-//! box by less than one box width; each unordered pair is listed once, canonically: a < b, or
-//! a = b with s lexicographically positive (a segment and its own image).
+//! Periodic images use shifts |s| ≤ k along each periodic axis, k the fewest whole periods
+//! that the nodes' span plus the interaction reach covers (at least 1: ±1 suffices while the
+//! tubes stay within half a box width of each other); each unordered pair is listed once,
+//! canonically: a < b, or a = b with s lexicographically positive (a segment and its own
+//! image).
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Vector;
@@ -36,16 +38,46 @@ impl PeriodicBox {
         )
     }
 
-    /// All image shifts to search, (0, 0) first.
-    fn shifts(&self) -> Vec<[i8; 2]> {
-        let range = |p: Option<f64>| if p.is_some() { vec![0, -1, 1] } else { vec![0] };
+    /// All image shifts to search, (0, 0) first: |s| ≤ `reach` along each periodic axis.
+    fn shifts(&self, reach: [i8; 2]) -> Vec<[i8; 2]> {
+        let range = |p: Option<f64>, k: i8| match p {
+            Some(_) => std::iter::once(0)
+                .chain((1..=k.max(1)).flat_map(|i| [-i, i]))
+                .collect(),
+            None => vec![0],
+        };
         let mut out = Vec::new();
-        for &sx in &range(self.lx) {
-            for &sy in &range(self.ly) {
+        for &sx in &range(self.lx, reach[0]) {
+            for &sy in &range(self.ly, reach[1]) {
                 out.push([sx, sy]);
             }
         }
         out
+    }
+
+    /// The image shifts that can bring two segments of `segs` at `x` within reach + `skin`
+    /// of each other: ⌈(span + 2ρ_max + skin)/L⌉ − 1 along each axis (at least 1), the span
+    /// being that of all nodes. Tubes that stay within half a box of it need only ±1; a dense
+    /// turf whose tubes lean across several boxes needs more.
+    fn reach(&self, segs: &SegmentSet, x: &[f64], skin: f64) -> [i8; 2] {
+        let rho = segs.reach.iter().fold(0.0f64, |m, &r| m.max(r));
+        let axis = |d: usize, l: Option<f64>| -> i8 {
+            let Some(l) = l.filter(|l| *l > 0.0) else {
+                return 1;
+            };
+            let (lo, hi) = x
+                .chunks_exact(3)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p[d]), hi.max(p[d]))
+                });
+            let k = ((hi - lo + 2.0 * rho + skin) / l).ceil() - 1.0;
+            if k.is_finite() {
+                k.clamp(1.0, f64::from(i8::MAX)) as i8
+            } else {
+                1
+            }
+        };
+        [axis(0, self.lx), axis(1, self.ly)]
     }
 }
 
@@ -120,7 +152,7 @@ pub fn brute_force_pairs(
 ) -> Vec<SegmentPair> {
     let n = segs.nodes.len() as u32;
     let mut out = Vec::new();
-    for s in pbox.shifts() {
+    for s in pbox.shifts(pbox.reach(segs, x, skin)) {
         for a in 0..n {
             for b in a..n {
                 if let Some(p) = SegmentPair::canonical(a, b, s) {
@@ -250,7 +282,10 @@ impl Broadphase {
             .traverse_bvtt_single_tree::<false>(&mut self.workspace, &mut |i, j| {
                 cand.extend(SegmentPair::canonical(i, j, [0, 0]))
             });
-        for s in self.pbox.shifts().into_iter().skip(1) {
+        // the span is taken with a skin of motion to spare: the list is kept until a node
+        // moves skin/2, which may widen the span by skin
+        let reach = self.pbox.reach(&self.segs, x, 2.0 * self.skin);
+        for s in self.pbox.shifts(reach).into_iter().skip(1) {
             let off = self.pbox.offset(s);
             for a in 0..self.segs.nodes.len() {
                 // boxes of b + off overlapping a's box ⇔ b's box overlapping a's box − off

@@ -67,6 +67,15 @@ pub struct PackingParams {
     pub max_joint_gap: f64,
     /// how the chains resist bending
     pub bending: Bending,
+    /// an overlap of two tube surfaces deeper than this, nm (rapier's deepest contact, checked
+    /// every `check_every` steps), pauses the remapping until it is below half; if it lasts
+    /// `pause_steps`, the turf has jammed: the packing stops and records the last state
+    /// checked without a pause
+    pub max_overlap: f64,
+    /// steps an overlap may pause the remapping before the packing stops
+    pub pause_steps: usize,
+    /// steps between the checks of joints and overlaps (and the snapshots kept)
+    pub check_every: usize,
 }
 
 /// How a chain resists bending at its joints.
@@ -93,6 +102,9 @@ impl Default for PackingParams {
             solver_iterations: 8,
             max_joint_gap: 1.0,
             bending: Bending::JointSprings,
+            max_overlap: 1.0,
+            pause_steps: 1000,
+            check_every: 50,
         }
     }
 }
@@ -136,6 +148,9 @@ pub struct PackedState {
     pub steps: usize,
     /// wall time since the start (set-up included), s
     pub wall_s: f64,
+    /// a target density reached and held (false: the last state checked before the packing
+    /// stopped)
+    pub at_target: bool,
 }
 
 /// The packing's recorded states and how it ended.
@@ -428,6 +443,17 @@ impl World {
         }
     }
 
+    /// The deepest overlap of two tube surfaces among rapier's contacts, nm (≤ 0: none):
+    /// the capsules' penetration less the clearance they carry.
+    fn deepest_overlap(&self, clearance: f64) -> f64 {
+        self.world
+            .narrow_phase
+            .contact_pairs()
+            .filter_map(|c| c.find_deepest_contact())
+            .map(|(_, c)| -c.dist - clearance)
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
     fn step(&mut self, remap: Option<f64>) {
         if let Some(s) = remap {
             self.remap(s);
@@ -489,7 +515,12 @@ impl World {
     }
 }
 
-/// Pack `turf` (tubes of Young's modulus `youngs`, GPa) towards each density of `p` in turn.
+fn area(t: &Turf) -> f64 {
+    t.periodic.lx.unwrap_or(f64::INFINITY) * t.periodic.ly.unwrap_or(f64::INFINITY)
+}
+
+/// Pack `turf` (tubes of Young's modulus `youngs`, GPa) towards each density of `p` in turn;
+/// stop at the first joint wider than `max_joint_gap` or overlap deeper than `max_overlap`.
 pub fn pack_turf(turf: &Turf, youngs: f64, p: &PackingParams) -> Result<Packing, PackingError> {
     let start = Instant::now();
     let (Some(lx0), Some(ly0)) = (turf.periodic.lx, turf.periodic.ly) else {
@@ -509,49 +540,95 @@ pub fn pack_turf(turf: &Turf, youngs: f64, p: &PackingParams) -> Result<Packing,
     let bodies = (w.world.bodies.len() - w.ghosts.len(), w.ghosts.len());
     let mass = w.mass;
     let s = 1.0 - p.shrink_per_step.clamp(1e-8, 0.5);
+    let every = p.check_every.max(1);
     let mut steps = 0usize;
     let mut states = Vec::new();
     let mut stopped = None;
-    'targets: for &target in &p.densities {
-        let side = |rho: f64| lx0 * (rho0 / rho).sqrt();
-        let l_target = side(target);
-        while w.lx > l_target {
-            let factor = (l_target / w.lx).max(s);
-            w.step(Some(factor));
-            steps += 1;
-            if steps % 200 == 0 {
-                let (_, gap) = w.turf();
-                if std::env::var_os("TURF_PACK_TRACE").is_some() {
-                    eprintln!("step {steps} box {:.2} joint gap {gap:.3e}", w.lx);
-                }
-                if gap > p.max_joint_gap || !gap.is_finite() {
-                    stopped = Some(format!(
-                        "a joint opened {gap:.3} nm at {:.3e} /nm² (box {:.1} nm)",
-                        n / (w.lx * w.ly),
-                        w.lx
-                    ));
-                    break 'targets;
-                }
-            }
-        }
-        for _ in 0..p.hold_steps {
-            w.step(None);
-            steps += 1;
-        }
+    let record = |w: &World, steps: usize, at_target: bool| {
         let (packed, joint_gap) = w.turf();
         let (min_gap, _) = min_surface_gap(&packed);
-        states.push(PackedState {
+        PackedState {
             density: n / (w.lx * w.ly),
             turf: packed,
             min_gap,
             joint_gap,
             steps,
             wall_s: start.elapsed().as_secs_f64(),
-        });
-        if joint_gap > p.max_joint_gap {
-            stopped = Some(format!("a joint opened {joint_gap:.3} nm at the target"));
-            break;
+            at_target,
         }
+    };
+    // the last state that passed the checks: (turf, joint gap, steps, wall)
+    let mut last_good: Option<(Turf, f64, usize, f64)> = None;
+    // steps since an overlap paused the remapping (0: not paused)
+    let mut paused = 0usize;
+    'targets: for &target in &p.densities {
+        let l_target = lx0 * (rho0 / target).sqrt();
+        let mut hold = 0;
+        while hold < p.hold_steps || w.lx > l_target {
+            if paused > 0 {
+                w.step(None);
+                paused += 1;
+            } else if w.lx > l_target {
+                w.step(Some((l_target / w.lx).max(s)));
+            } else {
+                w.step(None);
+                hold += 1;
+            }
+            steps += 1;
+            if steps % every != 0 {
+                continue;
+            }
+            let (packed, gap) = w.turf();
+            let overlap = w.deepest_overlap(p.clearance);
+            if std::env::var_os("TURF_PACK_TRACE").is_some() {
+                eprintln!(
+                    "step {steps} box {:.2} joint gap {gap:.3e} overlap {overlap:.3}",
+                    w.lx
+                );
+            }
+            // an overlap pauses the remapping until the contacts have pushed it below half
+            // the limit; one that outlasts `pause_steps` means the tubes cannot make room
+            if paused == 0 && overlap > p.max_overlap {
+                paused = 1;
+            } else if paused > 0 && overlap <= 0.5 * p.max_overlap {
+                paused = 0;
+            }
+            let why = if !(gap <= p.max_joint_gap) {
+                Some(format!("a joint opened {gap:.3} nm"))
+            } else if paused > p.pause_steps {
+                Some(format!(
+                    "tube surfaces still overlap by {overlap:.3} nm after {} steps without \
+                     remapping (jammed)",
+                    paused - 1
+                ))
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                stopped = Some(format!(
+                    "{why} at {:.4e} /nm² (box {:.2} nm), step {steps}",
+                    n / (w.lx * w.ly),
+                    w.lx
+                ));
+                if let Some((turf, joint_gap, steps, wall_s)) = last_good.take() {
+                    let (min_gap, _) = min_surface_gap(&turf);
+                    states.push(PackedState {
+                        density: n / area(&turf),
+                        turf,
+                        min_gap,
+                        joint_gap,
+                        steps,
+                        wall_s,
+                        at_target: false,
+                    });
+                }
+                break 'targets;
+            }
+            if paused == 0 {
+                last_good = Some((packed, gap, steps, start.elapsed().as_secs_f64()));
+            }
+        }
+        states.push(record(&w, steps, true));
     }
     Ok(Packing {
         states,
