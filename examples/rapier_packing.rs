@@ -14,7 +14,9 @@ use std::path::Path;
 use std::time::Instant;
 use turf::discrete::model::{relax, TurfSystem};
 use turf::discrete::platen::DEFAULT_WALL_STIFFNESS;
-use turf::discrete::rapier_packing::{min_surface_gap, pack_turf, Bending, PackingParams};
+use turf::discrete::rapier_packing::{
+    min_surface_gap, min_surface_gap_beyond, pack_turf, Bending, PackingParams,
+};
 use turf::discrete::turf::Turf;
 
 /// 10¹⁰ tubes/cm² in tubes/nm².
@@ -63,6 +65,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let area = |t: &Turf| t.periodic.lx.unwrap_or(0.0) * t.periodic.ly.unwrap_or(0.0);
     let (g0, _) = min_surface_gap(&turf);
     eprintln!(
+        "generated: smallest gap over image shifts of 2 or more periods {:.3} nm",
+        min_surface_gap_beyond(&turf, 2).0
+    );
+    eprintln!(
         "generated: {} tubes, box {:.1} nm, {:.3}e10 /cm², smallest gap {g0:.3} nm",
         turf.tubes.len(),
         turf.periodic.lx.unwrap_or(0.0),
@@ -97,10 +103,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         let extent = span(0).max(span(1));
         eprintln!(
-            "{:.3}e10 /cm²: smallest gap {:.3} nm at {:?}",
+            "{:.3}e10 /cm²: smallest gap {:.3} nm at {:?}; over shifts of 2 or more: {:.3} nm",
             st.density / PER_1E10_CM2,
             st.min_gap,
-            min_surface_gap(&st.turf).1
+            min_surface_gap(&st.turf).1,
+            min_surface_gap_beyond(&st.turf, 2).0
         );
         if let Some(dir) = &dump {
             let mut text = String::from("tube,node,x,y,z\n");

@@ -222,7 +222,12 @@ fn wrap_tubes(tubes: &mut [Tube], lx: f64, ly: f64) {
 }
 
 impl World {
-    fn build(turf: &Turf, youngs: f64, p: &PackingParams, l_min: f64) -> Result<Self, PackingError> {
+    fn build(
+        turf: &Turf,
+        youngs: f64,
+        p: &PackingParams,
+        l_min: f64,
+    ) -> Result<Self, PackingError> {
         let (Some(lx), Some(ly)) = (turf.periodic.lx, turf.periodic.ly) else {
             return Err(PackingError::NotPeriodic);
         };
@@ -413,7 +418,10 @@ impl World {
             let pose = *self.world.bodies[g.body].position();
             let offset = Vector::new(g.shift[0] * self.lx, g.shift[1] * self.ly, 0.0);
             let ghost = &mut self.world.bodies[g.handle];
-            ghost.set_position(Pose::from_parts(pose.translation + offset, pose.rotation), true);
+            ghost.set_position(
+                Pose::from_parts(pose.translation + offset, pose.rotation),
+                true,
+            );
         }
     }
 
@@ -654,6 +662,12 @@ pub struct GapPair {
 /// image counts, segments of one tube with each other do not. Negative: interpenetration. Also
 /// the pair of tubes where it occurs.
 pub fn min_surface_gap(turf: &Turf) -> (f64, Option<GapPair>) {
+    min_surface_gap_beyond(turf, 0)
+}
+
+/// [`min_surface_gap`] over the image pairs whose shift is at least `min_shift` periods along
+/// x or y (`min_shift` = 2: the pairs a search of the shifts −1, 0, 1 would miss).
+pub fn min_surface_gap_beyond(turf: &Turf, min_shift: i64) -> (f64, Option<GapPair>) {
     let (lx, ly) = (
         turf.periodic.lx.unwrap_or(f64::INFINITY),
         turf.periodic.ly.unwrap_or(f64::INFINITY),
@@ -705,7 +719,8 @@ pub fn min_surface_gap(turf: &Turf) -> (f64, Option<GapPair>) {
             for kx in x0..=x1 {
                 for ky in y0..=y1 {
                     // a tube's own shape is the rod's business, not a contact
-                    if a.tube == b.tube && kx == 0 && ky == 0 {
+                    if a.tube == b.tube && kx == 0 && ky == 0 || kx.abs().max(ky.abs()) < min_shift
+                    {
                         continue;
                     }
                     let off = Vector::new(kx as f64 * lx, ky as f64 * ly, 0.0);
@@ -715,10 +730,8 @@ pub fn min_surface_gap(turf: &Turf) -> (f64, Option<GapPair>) {
                         0.0,
                     );
                     let (b0, b1) = (b.a + off, b.b + off);
-                    let (la, lb) = closest_points_segment_segment_with_locations_nD(
-                        (&a.a, &a.b),
-                        (&b0, &b1),
-                    );
+                    let (la, lb) =
+                        closest_points_segment_segment_with_locations_nD((&a.a, &a.b), (&b0, &b1));
                     let [ua, va] = la.barycentric_coordinates();
                     let [ub, vb] = lb.barycentric_coordinates();
                     let d = ((a.a * ua + a.b * va) - (b0 * ub + b1 * vb)).length();
@@ -748,36 +761,37 @@ mod tests {
     /// A straight vertical tube of `segments` segments of 200 nm at (x, y).
     fn tube(x: f64, y: f64, segments: usize) -> Tube {
         Tube {
-            nodes: (0..=segments)
-                .map(|k| [x, y, 200.0 * k as f64])
-                .collect(),
+            nodes: (0..=segments).map(|k| [x, y, 200.0 * k as f64]).collect(),
             radius_outer: 20.0,
             radius_inner: 17.3,
         }
     }
 
-    /// The gap check against a hand count: two vertical tubes 100 nm apart in a 150 nm box meet
-    /// their images 50 nm away (gap 10 nm); in a 300 nm box the nearest is 100 nm (gap 60 nm).
+    /// The gap check against a hand count: two vertical tubes 70 nm apart in a 120 nm box meet
+    /// their images 50 nm away (gap 10 nm); in a 300 nm box the nearest is the tube itself
+    /// (gap 30 nm).
     #[test]
     fn min_surface_gap_counts_images() {
         let mut turf = Turf {
-            tubes: vec![tube(10.0, 10.0, 3), tube(110.0, 10.0, 3)],
+            tubes: vec![tube(10.0, 10.0, 3), tube(80.0, 10.0, 3)],
             periodic: PeriodicBox {
-                lx: Some(150.0),
+                lx: Some(120.0),
                 ly: Some(1000.0),
             },
         };
-        let (g, _) = min_surface_gap(&turf);
+        let (g, at) = min_surface_gap(&turf);
         assert!((g - 10.0).abs() < 1e-9, "gap {g}");
+        assert_eq!(at.map(|a| a.shift[0].abs()), Some(1));
         turf.periodic.lx = Some(300.0);
-        let (g, _) = min_surface_gap(&turf);
-        assert!((g - 60.0).abs() < 1e-9, "gap {g}");
+        let (g, at) = min_surface_gap(&turf);
+        assert!((g - 30.0).abs() < 1e-9, "gap {g}");
+        assert_eq!(at.map(|a| a.shift), Some([0, 0]));
     }
 
     /// Two tubes whose tops lean towards each other (60 nm apart), squeezed from a 300 nm to a
-    /// 120 nm box: remapped alone, the tops would sit 24 nm apart, 16 nm into each other: rapier's contacts
-    /// keep the capsules apart (gap ≥ −0.5 nm), the joints closed, the bases where the remap
-    /// puts them.
+    /// 120 nm box: remapped alone, the tops would sit 24 nm apart, 16 nm into each other:
+    /// rapier's contacts keep the capsules apart (gap ≥ −0.5 nm), the joints closed, the
+    /// clamps upright on the substrate.
     #[test]
     fn packing_keeps_two_tubes_apart() {
         let mut a = tube(75.0, 150.0, 4);
@@ -808,8 +822,12 @@ mod tests {
         assert!((s.turf.periodic.lx.unwrap_or(0.0) - 120.0).abs() < 1e-6);
         assert!(s.min_gap > -0.5, "tubes overlap: gap {}", s.min_gap);
         assert!(s.joint_gap < 0.1, "joint gap {}", s.joint_gap);
-        let base = s.turf.tubes[0].nodes[0];
-        assert!((base[0] - 30.0).abs() < 1e-6 && (base[1] - 60.0).abs() < 1e-6);
+        // the clamp slides but stays on the substrate, upright
+        for t in &s.turf.tubes {
+            let (b, c) = (t.nodes[0], t.nodes[1]);
+            assert!(b[2].abs() < 1e-9, "base lifted to {}", b[2]);
+            assert!((c[0] - b[0]).abs() < 1e-6 && (c[1] - b[1]).abs() < 1e-6);
+        }
     }
 
     #[test]
@@ -829,48 +847,5 @@ mod tests {
             pack_turf(&turf, 400.0, &p),
             Err(PackingError::Target { .. })
         ));
-    }
-}
-
-#[cfg(test)]
-mod probe {
-    use super::*;
-
-    #[test]
-    #[ignore]
-    fn bending_probe() {
-        for st in [0.5, 0.1, 0.02] {
-            let mut t = Tube {
-                nodes: (0..=10).map(|k| [500.0, 500.0, 200.0 * k as f64]).collect(),
-                radius_outer: 20.0,
-                radius_inner: 17.3,
-            };
-            for (k, n) in t.nodes.iter_mut().enumerate() {
-                n[0] += 50.0 * (k as f64 * 0.5).sin();
-            }
-            let turf = Turf {
-                tubes: vec![t],
-                periodic: PeriodicBox {
-                    lx: Some(1000.0),
-                    ly: Some(1000.0),
-                },
-            };
-            let p = PackingParams {
-                stability: st,
-                bending: if st < 0.3 { Bending::Torques } else { Bending::JointSprings },
-                ..PackingParams::default()
-            };
-            let mut w = World::build(&turf, 400.0, &p, 1000.0).unwrap();
-            // perturb: rotate the top segment
-            let h = w.chains[0].bodies[9];
-            w.world.bodies[h].set_angvel(Vector::new(0.0, 0.02, 0.0), true);
-            for k in 0..2000 {
-                w.step(None);
-                if k % 400 == 0 {
-                    let (tt, gap) = w.turf();
-                    eprintln!("st {st} step {k} gap {gap:.3e} top {:?}", tt.tubes[0].nodes[10]);
-                }
-            }
-        }
     }
 }
