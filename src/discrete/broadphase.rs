@@ -318,6 +318,30 @@ fn segment_box(segs: &SegmentSet, x: &[f64], i: usize, skin: f64) -> Aabb {
 mod tests {
     use super::*;
 
+    /// Two segments two periods and 1 nm apart (a tube leaning across two boxes): the pair is
+    /// found at shift −2, by the tree and by brute force alike (a search of ±1 misses it).
+    #[test]
+    fn images_beyond_one_period_are_found() {
+        let segs = SegmentSet {
+            nodes: vec![[0, 1], [2, 3]],
+            reach: vec![1.0, 1.0],
+        };
+        let x = [0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 81.0, 0.0, 0.0, 81.0, 0.0, 5.0];
+        let pbox = PeriodicBox {
+            lx: Some(40.0),
+            ly: Some(40.0),
+        };
+        let keep = |_: &SegmentPair| true;
+        let bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
+        let want = SegmentPair {
+            a: 0,
+            b: 1,
+            shift: [-2, 0],
+        };
+        assert!(bp.pairs().contains(&want), "{:?}", bp.pairs());
+        assert_eq!(bp.pairs(), brute_force_pairs(&segs, &x, &pbox, 0.5, &keep));
+    }
+
     #[test]
     fn canonical_pairs_are_unique() {
         let p = SegmentPair::canonical(3, 1, [1, -1]).unwrap();
