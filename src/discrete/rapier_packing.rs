@@ -443,10 +443,10 @@ impl World {
                 torque[i - 1] += ge.cross(e);
                 torque[i] += gf.cross(f);
             }
-            for j in 1..n {
-                let rb = &mut self.world.bodies[c.bodies[j]];
+            for (&h, t) in c.bodies.iter().zip(&torque).skip(1) {
+                let rb = &mut self.world.bodies[h];
                 rb.reset_forces(false);
-                rb.add_torque(gl(&torque[j]), true);
+                rb.add_torque(gl(t), true);
             }
         }
     }
@@ -601,7 +601,8 @@ pub fn pack_turf(turf: &Turf, youngs: f64, p: &PackingParams) -> Result<Packing,
             } else if paused > 0 && overlap <= 0.5 * p.max_overlap {
                 paused = 0;
             }
-            let why = if !(gap <= p.max_joint_gap) {
+            // a NaN gap (a blown-up chain) stops the packing too
+            let why = if gap.is_nan() || gap > p.max_joint_gap {
                 Some(format!("a joint opened {gap:.3} nm"))
             } else if paused > p.pause_steps {
                 Some(format!(
