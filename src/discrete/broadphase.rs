@@ -8,16 +8,20 @@
 //! pair within ρ_a + ρ_b) until some node has moved more than skin/2 since the build, because a
 //! segment's points move no further than its farthest node ([`Broadphase::update`] rebuilds then).
 //!
-//! Periodic images use shifts |s| ≤ k along each periodic axis, k the fewest whole periods
-//! that the nodes' span plus the interaction reach covers (at least 1: ±1 suffices while the
-//! tubes stay within half a box width of each other); each unordered pair is listed once,
-//! canonically: a < b, or a = b with s lexicographically positive (a segment and its own
-//! image).
+//! Periodic images use shifts s ∈ {−1, 0, 1} along each periodic axis by default
+//! ([`ImageSearch::Nearest`]), so tubes must stay within about half a box width of each other;
+//! [`ImageSearch::Span`] searches |s| ≤ k instead, k the fewest whole periods that the nodes'
+//! span plus the interaction reach covers (a turf packed into a box smaller than its tubes'
+//! lean). Each unordered pair is listed once, canonically: a < b, or a = b with s
+//! lexicographically positive (a segment and its own image); [`brute_force_pairs`] always
+//! searches the span.
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use parry3d_f64::query::details::closest_points_segment_segment_with_locations_nD;
+
+use super::vdw::ImageSearch;
 
 /// A periodic box in x and y (each axis periodic or not); z is never periodic (substrate).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -187,6 +191,7 @@ pub struct Broadphase {
     x_ref: Vec<f64>,
     pairs: Vec<SegmentPair>,
     info: BroadphaseInfo,
+    search: ImageSearch,
 }
 
 impl Broadphase {
@@ -211,6 +216,7 @@ impl Broadphase {
             x_ref: x.to_vec(),
             pairs: Vec::new(),
             info: BroadphaseInfo::default(),
+            search: ImageSearch::Nearest,
         };
         bp.collect_pairs(x, keep);
         bp
@@ -256,6 +262,17 @@ impl Broadphase {
         true
     }
 
+    /// Search the periodic images as `search` says and rebuild the list at `x`.
+    pub fn set_image_search(
+        &mut self,
+        search: ImageSearch,
+        x: &[f64],
+        keep: &dyn Fn(&SegmentPair) -> bool,
+    ) {
+        self.search = search;
+        self.rebuild(x, keep);
+    }
+
     /// Change the periods to `pbox` (the box deforming, [`super::rve`]) and rebuild the list
     /// at `x`: image pairs move by the change of period, which the Verlet test on node motion
     /// does not see.
@@ -284,7 +301,10 @@ impl Broadphase {
             });
         // the span is taken with a skin of motion to spare: the list is kept until a node
         // moves skin/2, which may widen the span by skin
-        let reach = self.pbox.reach(&self.segs, x, 2.0 * self.skin);
+        let reach = match self.search {
+            ImageSearch::Nearest => [1, 1],
+            ImageSearch::Span => self.pbox.reach(&self.segs, x, 2.0 * self.skin),
+        };
         for s in self.pbox.shifts(reach).into_iter().skip(1) {
             let off = self.pbox.offset(s);
             for a in 0..self.segs.nodes.len() {
@@ -318,8 +338,9 @@ fn segment_box(segs: &SegmentSet, x: &[f64], i: usize, skin: f64) -> Aabb {
 mod tests {
     use super::*;
 
-    /// Two segments two periods and 1 nm apart (a tube leaning across two boxes): the pair is
-    /// found at shift −2, by the tree and by brute force alike (a search of ±1 misses it).
+    /// Two segments two periods and 1 nm apart (a tube leaning across two boxes): the pair at
+    /// shift −2 is missed by the default search of ±1, found by the span search, by the tree
+    /// and by brute force alike.
     #[test]
     fn images_beyond_one_period_are_found() {
         let segs = SegmentSet {
@@ -332,7 +353,17 @@ mod tests {
             ly: Some(40.0),
         };
         let keep = |_: &SegmentPair| true;
-        let bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
+        let mut bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
+        let want = SegmentPair {
+            a: 0,
+            b: 1,
+            shift: [-2, 0],
+        };
+        assert!(
+            !bp.pairs().contains(&want),
+            "the nearest images only by default"
+        );
+        bp.set_image_search(ImageSearch::Span, &x, &keep);
         let want = SegmentPair {
             a: 0,
             b: 1,
