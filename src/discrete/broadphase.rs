@@ -8,14 +8,20 @@
 //! pair within ρ_a + ρ_b) until some node has moved more than skin/2 since the build, because a
 //! segment's points move no further than its farthest node ([`Broadphase::update`] rebuilds then).
 //!
-//! Periodic images use shifts s ∈ {−1, 0, 1} along each periodic axis, so tubes may leave the
-//! box by less than one box width; each unordered pair is listed once, canonically: a < b, or
-//! a = b with s lexicographically positive (a segment and its own image).
+//! Periodic images use shifts s ∈ {−1, 0, 1} along each periodic axis by default
+//! ([`ImageSearch::Nearest`]), so tubes must stay within about half a box width of each other;
+//! [`ImageSearch::Span`] searches |s| ≤ k instead, k the fewest whole periods that the nodes'
+//! span plus the interaction reach covers (a turf packed into a box smaller than its tubes'
+//! lean). Each unordered pair is listed once, canonically: a < b, or a = b with s
+//! lexicographically positive (a segment and its own image); [`brute_force_pairs`] always
+//! searches the span.
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use parry3d_f64::query::details::closest_points_segment_segment_with_locations_nD;
+
+use super::vdw::ImageSearch;
 
 /// A periodic box in x and y (each axis periodic or not); z is never periodic (substrate).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -36,16 +42,46 @@ impl PeriodicBox {
         )
     }
 
-    /// All image shifts to search, (0, 0) first.
-    fn shifts(&self) -> Vec<[i8; 2]> {
-        let range = |p: Option<f64>| if p.is_some() { vec![0, -1, 1] } else { vec![0] };
+    /// All image shifts to search, (0, 0) first: |s| ≤ `reach` along each periodic axis.
+    fn shifts(&self, reach: [i8; 2]) -> Vec<[i8; 2]> {
+        let range = |p: Option<f64>, k: i8| match p {
+            Some(_) => std::iter::once(0)
+                .chain((1..=k.max(1)).flat_map(|i| [-i, i]))
+                .collect(),
+            None => vec![0],
+        };
         let mut out = Vec::new();
-        for &sx in &range(self.lx) {
-            for &sy in &range(self.ly) {
+        for &sx in &range(self.lx, reach[0]) {
+            for &sy in &range(self.ly, reach[1]) {
                 out.push([sx, sy]);
             }
         }
         out
+    }
+
+    /// The image shifts that can bring two segments of `segs` at `x` within reach + `skin`
+    /// of each other: ⌈(span + 2ρ_max + skin)/L⌉ − 1 along each axis (at least 1), the span
+    /// being that of all nodes. Tubes that stay within half a box of it need only ±1; a dense
+    /// turf whose tubes lean across several boxes needs more.
+    fn reach(&self, segs: &SegmentSet, x: &[f64], skin: f64) -> [i8; 2] {
+        let rho = segs.reach.iter().fold(0.0f64, |m, &r| m.max(r));
+        let axis = |d: usize, l: Option<f64>| -> i8 {
+            let Some(l) = l.filter(|l| *l > 0.0) else {
+                return 1;
+            };
+            let (lo, hi) = x
+                .chunks_exact(3)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p[d]), hi.max(p[d]))
+                });
+            let k = ((hi - lo + 2.0 * rho + skin) / l).ceil() - 1.0;
+            if k.is_finite() {
+                k.clamp(1.0, f64::from(i8::MAX)) as i8
+            } else {
+                1
+            }
+        };
+        [axis(0, self.lx), axis(1, self.ly)]
     }
 }
 
@@ -120,7 +156,7 @@ pub fn brute_force_pairs(
 ) -> Vec<SegmentPair> {
     let n = segs.nodes.len() as u32;
     let mut out = Vec::new();
-    for s in pbox.shifts() {
+    for s in pbox.shifts(pbox.reach(segs, x, skin)) {
         for a in 0..n {
             for b in a..n {
                 if let Some(p) = SegmentPair::canonical(a, b, s) {
@@ -155,6 +191,7 @@ pub struct Broadphase {
     x_ref: Vec<f64>,
     pairs: Vec<SegmentPair>,
     info: BroadphaseInfo,
+    search: ImageSearch,
 }
 
 impl Broadphase {
@@ -179,6 +216,7 @@ impl Broadphase {
             x_ref: x.to_vec(),
             pairs: Vec::new(),
             info: BroadphaseInfo::default(),
+            search: ImageSearch::Nearest,
         };
         bp.collect_pairs(x, keep);
         bp
@@ -224,6 +262,17 @@ impl Broadphase {
         true
     }
 
+    /// Search the periodic images as `search` says and rebuild the list at `x`.
+    pub fn set_image_search(
+        &mut self,
+        search: ImageSearch,
+        x: &[f64],
+        keep: &dyn Fn(&SegmentPair) -> bool,
+    ) {
+        self.search = search;
+        self.rebuild(x, keep);
+    }
+
     /// Change the periods to `pbox` (the box deforming, [`super::rve`]) and rebuild the list
     /// at `x`: image pairs move by the change of period, which the Verlet test on node motion
     /// does not see.
@@ -250,7 +299,13 @@ impl Broadphase {
             .traverse_bvtt_single_tree::<false>(&mut self.workspace, &mut |i, j| {
                 cand.extend(SegmentPair::canonical(i, j, [0, 0]))
             });
-        for s in self.pbox.shifts().into_iter().skip(1) {
+        // the span is taken with a skin of motion to spare: the list is kept until a node
+        // moves skin/2, which may widen the span by skin
+        let reach = match self.search {
+            ImageSearch::Nearest => [1, 1],
+            ImageSearch::Span => self.pbox.reach(&self.segs, x, 2.0 * self.skin),
+        };
+        for s in self.pbox.shifts(reach).into_iter().skip(1) {
             let off = self.pbox.offset(s);
             for a in 0..self.segs.nodes.len() {
                 // boxes of b + off overlapping a's box ⇔ b's box overlapping a's box − off
@@ -282,6 +337,41 @@ fn segment_box(segs: &SegmentSet, x: &[f64], i: usize, skin: f64) -> Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two segments two periods and 1 nm apart (a tube leaning across two boxes): the pair at
+    /// shift −2 is missed by the default search of ±1, found by the span search, by the tree
+    /// and by brute force alike.
+    #[test]
+    fn images_beyond_one_period_are_found() {
+        let segs = SegmentSet {
+            nodes: vec![[0, 1], [2, 3]],
+            reach: vec![1.0, 1.0],
+        };
+        let x = [0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 81.0, 0.0, 0.0, 81.0, 0.0, 5.0];
+        let pbox = PeriodicBox {
+            lx: Some(40.0),
+            ly: Some(40.0),
+        };
+        let keep = |_: &SegmentPair| true;
+        let mut bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
+        let want = SegmentPair {
+            a: 0,
+            b: 1,
+            shift: [-2, 0],
+        };
+        assert!(
+            !bp.pairs().contains(&want),
+            "the nearest images only by default"
+        );
+        bp.set_image_search(ImageSearch::Span, &x, &keep);
+        let want = SegmentPair {
+            a: 0,
+            b: 1,
+            shift: [-2, 0],
+        };
+        assert!(bp.pairs().contains(&want), "{:?}", bp.pairs());
+        assert_eq!(bp.pairs(), brute_force_pairs(&segs, &x, &pbox, 0.5, &keep));
+    }
 
     #[test]
     fn canonical_pairs_are_unique() {

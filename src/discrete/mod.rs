@@ -16,6 +16,8 @@ pub mod energy;
 pub mod explicit_rods;
 pub mod model;
 pub mod platen;
+#[cfg(feature = "rapier")]
+pub mod rapier_packing;
 pub mod rod;
 pub mod rod_kernels;
 pub mod rod_problems;

@@ -41,6 +41,7 @@ mod rve_stage;
 pub mod shard;
 mod theory_stage;
 mod turf_setup;
+pub use turf_setup::scene_turf;
 
 use crate::report::{csv::Table, write_json, ReportError};
 use crate::scene::{Loaded, ResolvedScene, Stage};

@@ -149,3 +149,27 @@ pub(super) fn static_solver(k: &Compression) -> StaticSolver {
         }),
     }
 }
+
+/// Realisation `index` of a scene's `[turf]` as the discrete stage generates it, for tools
+/// outside the stages (the rigid-body packing, `examples/rapier_packing.rs`): the turf, the
+/// tubes' Young's modulus (GPa), the contact parameters and the `[compression]` solver.
+pub fn scene_turf(
+    s: &crate::scene::Scene,
+    index: usize,
+) -> Result<(Turf, f64, Option<VdwParams>, StaticSolver), StageError> {
+    let t = s
+        .turf
+        .as_ref()
+        .ok_or_else(|| failed("the scene has no [turf]".into()))?;
+    let k = s
+        .compression
+        .as_ref()
+        .ok_or_else(|| failed("the scene has no [compression]".into()))?;
+    let seed = super::ensemble::realisation_seed(s.scene.seed, index);
+    let mut turf = generate_turf(&turf_params(t, seed)).map_err(|e| failed(e.to_string()))?;
+    if !t.periodic {
+        turf.periodic = PeriodicBox::default();
+    }
+    let vdw = t.vdw.as_ref().map(vdw_params).transpose()?;
+    Ok((turf, t.tube.youngs.0, vdw, static_solver(k)))
+}
