@@ -195,11 +195,25 @@ pub struct Broadphase {
 }
 
 impl Broadphase {
-    /// Build the tree and the first pair list at configuration `x`.
+    /// Build the tree and the first pair list at configuration `x`, searching the nearest
+    /// periodic images.
     pub fn new(
         segs: SegmentSet,
         pbox: PeriodicBox,
         skin: f64,
+        x: &[f64],
+        keep: &dyn Fn(&SegmentPair) -> bool,
+    ) -> Self {
+        Self::with_search(segs, pbox, skin, ImageSearch::Nearest, x, keep)
+    }
+
+    /// Build the tree and the first pair list at configuration `x`, searching the periodic
+    /// images as `search` says.
+    pub fn with_search(
+        segs: SegmentSet,
+        pbox: PeriodicBox,
+        skin: f64,
+        search: ImageSearch,
         x: &[f64],
         keep: &dyn Fn(&SegmentPair) -> bool,
     ) -> Self {
@@ -216,7 +230,7 @@ impl Broadphase {
             x_ref: x.to_vec(),
             pairs: Vec::new(),
             info: BroadphaseInfo::default(),
-            search: ImageSearch::Nearest,
+            search,
         };
         bp.collect_pairs(x, keep);
         bp
@@ -260,17 +274,6 @@ impl Broadphase {
         }
         self.rebuild(x, keep);
         true
-    }
-
-    /// Search the periodic images as `search` says and rebuild the list at `x`.
-    pub fn set_image_search(
-        &mut self,
-        search: ImageSearch,
-        x: &[f64],
-        keep: &dyn Fn(&SegmentPair) -> bool,
-    ) {
-        self.search = search;
-        self.rebuild(x, keep);
     }
 
     /// Change the periods to `pbox` (the box deforming, [`super::rve`]) and rebuild the list
@@ -353,7 +356,7 @@ mod tests {
             ly: Some(40.0),
         };
         let keep = |_: &SegmentPair| true;
-        let mut bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
+        let bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
         let want = SegmentPair {
             a: 0,
             b: 1,
@@ -363,12 +366,7 @@ mod tests {
             !bp.pairs().contains(&want),
             "the nearest images only by default"
         );
-        bp.set_image_search(ImageSearch::Span, &x, &keep);
-        let want = SegmentPair {
-            a: 0,
-            b: 1,
-            shift: [-2, 0],
-        };
+        let bp = Broadphase::with_search(segs.clone(), pbox, 0.5, ImageSearch::Span, &x, &keep);
         assert!(bp.pairs().contains(&want), "{:?}", bp.pairs());
         assert_eq!(bp.pairs(), brute_force_pairs(&segs, &x, &pbox, 0.5, &keep));
     }

@@ -9,8 +9,8 @@
 //! indefinite region does not pay a failed unshifted factorisation, nor climb from 1e-10 · max|H_kk|,
 //! at every iteration). The step p solves (H + μI) p = −g, a descent direction; the step length α
 //! shortens from 1 — to the minimiser of the cubic through the energy and slope at 0 and at
-//! the rejected trial, within [α/10, α/2] — until E(x + αp) ≤ E(x) + c₁ α gᵀp (Armijo), or — once energy differences sink
-//! into round-off — until the residual decreases. A shifted step accepted at α = 1 is doubled
+//! the rejected trial, within [α/10, α/2] — until E(x + αp) ≤ E(x) + c₁ α gᵀp (Armijo), or —
+//! once energy differences sink into round-off — until the residual decreases. A shifted step accepted at α = 1 is doubled
 //! while the energy keeps falling (up to [`MAX_EXPANSION`] times): the shift holds the step along
 //! soft directions to about |g|/μ, often far short of where the energy stops falling.
 //!
@@ -190,10 +190,7 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
         match self.d.rejected {
             Some((alpha, e1, slope1))
                 if alpha == s
-                    && (e1 - self.d.energy).abs()
-                        > 100.0
-                            * ENERGY_NOISE
-                            * (self.d.energy.abs().max(e1.abs()) + self.scale) =>
+                    && (e1 - self.d.energy).abs() > 100.0 * self.d.noise(e1, self.scale) =>
             {
                 cubic_step(self.d.energy, self.slope, s, e1, slope1).clamp(0.1 * s, 0.5 * s)
             }
@@ -325,19 +322,14 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
             Err(e) => return Err(e),
         };
         let r_trial = self.fixed.residual(&self.grad_trial);
-        let noise = ENERGY_NOISE * (self.energy.abs().max(e_trial.abs()) + scale);
+        let noise = self.noise(e_trial, scale);
         let sufficient = armijo(self.energy, e_trial, self.params.armijo, alpha, slope, 0.0);
         let flat = (e_trial - self.energy).abs() <= noise && r_trial < self.residual;
         if sufficient || flat {
             self.take(x, e_trial);
             return Ok(Trial::Accepted);
         }
-        let slope_trial = self
-            .free
-            .iter()
-            .zip(step)
-            .map(|(&k, p)| self.grad_trial[k] * p)
-            .sum();
+        let slope_trial = free_dot(self.free, &self.grad_trial, step);
         self.rejected = Some((alpha, e_trial, slope_trial));
         Ok(Trial::Rejected(format!(
             "energy {:.6e} → {e_trial:.6e}",
@@ -370,11 +362,13 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
 
     /// gᵀp at the current iterate along `step` (over the free coordinates).
     fn slope_along(&self, step: &[f64]) -> f64 {
-        self.free
-            .iter()
-            .zip(step)
-            .map(|(&k, p)| self.grad[k] * p)
-            .sum()
+        free_dot(self.free, &self.grad, step)
+    }
+
+    /// The round-off of an energy difference between the iterate and a trial of energy
+    /// `e_trial` (`scale` = Σ|g_k x_k|).
+    fn noise(&self, e_trial: f64, scale: f64) -> f64 {
+        ENERGY_NOISE * (self.energy.abs().max(e_trial.abs()) + scale)
     }
 
     /// Move to the trial point, of energy `e_trial`.
@@ -386,11 +380,17 @@ impl<'a, E: EnergyTerm + ?Sized> Descent<'a, E> {
     }
 }
 
+/// Σ g[k] p_i over the free coordinates k = `free`[i] (a full-length gradient `g` against a
+/// step `p` over the free coordinates).
+fn free_dot(free: &[usize], g: &[f64], p: &[f64]) -> f64 {
+    free.iter().zip(p).map(|(&k, p)| g[k] * p).sum()
+}
+
 /// The minimiser in (0, s) of the cubic with value `e0` and slope `slope0` < 0 at 0, `e1` and
 /// `slope1` at `s` (Nocedal & Wright eq. 3.59); where the cubic has no minimiser there, the
 /// minimiser of the quadratic through `e0`, `slope0` and `e1`.
 fn cubic_step(e0: f64, slope0: f64, s: f64, e1: f64, slope1: f64) -> f64 {
-    let d1 = slope0 + slope1 - 3.0 * (e0 - e1) / (0.0 - s);
+    let d1 = slope0 + slope1 + 3.0 * (e0 - e1) / s;
     let disc = d1 * d1 - slope0 * slope1;
     if disc >= 0.0 {
         let d2 = disc.sqrt();

@@ -13,8 +13,8 @@ use rayon::prelude::*;
 use super::broadphase::{Broadphase, BroadphaseInfo, PeriodicBox, SegmentPair, SegmentSet};
 use super::energy::EnergyTerm;
 use super::vdw::{
-    energy_segment_segment, ImageSearch, LinePairPotential, QuadSegment, SegmentPairEnergy,
-    VdwError, VdwKernel, VdwParams,
+    energy_segment_segment, LinePairPotential, QuadSegment, SegmentPairEnergy, VdwError, VdwKernel,
+    VdwParams,
 };
 use super::vdw_table::{energy_segment_segment_tabulated, InnerTable, D_STEP, X_STEP};
 use crate::numerics::quadrature::gauss_legendre_unit;
@@ -175,10 +175,10 @@ impl VdwTerm {
             VdwKernel::Tabulated => Some(Self::table(&pot, tubes)?),
         };
         let segs = SegmentSet { nodes, reach };
-        let mut broadphase = Broadphase::new(segs, pbox, params.skin, x0, &|p| exclusion.keep(p));
-        if params.image_search == ImageSearch::Span {
-            broadphase.set_image_search(ImageSearch::Span, x0, &|p| exclusion.keep(p));
-        }
+        let broadphase =
+            Broadphase::with_search(segs, pbox, params.skin, params.image_search, x0, &|p| {
+                exclusion.keep(p)
+            });
         Ok(VdwTerm {
             pot,
             table,

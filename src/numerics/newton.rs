@@ -8,7 +8,8 @@
 //! problem caps the change), shortening s (halving it, unless the problem interpolates) until the
 //! problem accepts the trial (its merit: Armijo on an energy, [`armijo`], or a decrease of ‖r‖).
 //! What a problem decides — the norm, the direction, the merit, how much shorter the next trial
-//! is, what to do when every shortening fails, a step past the accepted one — is a plug-in ([`NewtonProblem`]); the loop, its counts and its errors are here.
+//! is, what to do when every shortening fails, a step past the accepted one — is a plug-in
+//! ([`NewtonProblem`]); the loop, its counts and its errors are here.
 
 use serde::{Deserialize, Serialize};
 
