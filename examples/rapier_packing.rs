@@ -18,7 +18,6 @@ use turf::discrete::rapier_packing::{
     min_surface_gap, min_surface_gap_beyond, pack_turf, Bending, PackingParams,
 };
 use turf::discrete::turf::Turf;
-use turf::discrete::vdw::ImageSearch;
 
 /// 10¹⁰ tubes/cm² in tubes/nm².
 const PER_1E10_CM2: f64 = 1e-4;
@@ -62,11 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let loaded = turf::scene::load(Path::new(scene), &overrides)?;
     let s = &loaded.base.scene;
-    let (turf, youngs, mut vdw, solver) = turf::pipeline::scene_turf(s, index)?;
-    // a packed turf's tubes lean across several of its (smaller) boxes: search every image
-    if let Some(v) = vdw.as_mut() {
-        v.image_search = ImageSearch::Span;
-    }
+    let (turf, youngs, vdw, solver) = turf::pipeline::scene_turf(s, index)?;
     let area = |t: &Turf| t.periodic.lx.unwrap_or(0.0) * t.periodic.ly.unwrap_or(0.0);
     let (g0, _) = min_surface_gap(&turf);
     eprintln!(

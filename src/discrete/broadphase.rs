@@ -8,20 +8,23 @@
 //! pair within ρ_a + ρ_b) until some node has moved more than skin/2 since the build, because a
 //! segment's points move no further than its farthest node ([`Broadphase::update`] rebuilds then).
 //!
-//! Periodic images use shifts s ∈ {−1, 0, 1} along each periodic axis by default
-//! ([`ImageSearch::Nearest`]), so tubes must stay within about half a box width of each other;
-//! [`ImageSearch::Span`] searches |s| ≤ k instead, k the fewest whole periods that the nodes'
-//! span plus the interaction reach covers (a turf packed into a box smaller than its tubes'
-//! lean). Each unordered pair is listed once, canonically: a < b, or a = b with s
-//! lexicographically positive (a segment and its own image); [`brute_force_pairs`] always
-//! searches the span.
+//! Periodic images, complete however far the tubes lean (under compression a tube leaning
+//! across more than half a box meets images at shift ±2 or beyond). The search works on
+//! *pieces*: each segment cut into parts no longer than a period along each periodic axis, each
+//! part's loosened box wrapped into the primary cell by whole periods w. The tree holds the
+//! wrapped boxes, which therefore all lie within about one period of the cell; piece u is
+//! queried at every shift s whose translate of its box still overlaps the box bounding all
+//! wrapped boxes (a few shifts), and a hit v is the segment pair at shift w_u + s − w_v. A long
+//! or far-flung segment (a trial state of a line search) costs pieces in proportion to its
+//! length in periods, never a search over every image of the box bounding the turf. Each
+//! unordered pair is listed once, canonically: a < b, or a = b with s lexicographically
+//! positive (a segment and its own image); [`brute_force_pairs`] searches every shift the
+//! nodes' span allows.
 
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use parry3d_f64::query::details::closest_points_segment_segment_with_locations_nD;
-
-use super::vdw::ImageSearch;
 
 /// A periodic box in x and y (each axis periodic or not); z is never periodic (substrate).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -34,7 +37,7 @@ pub struct PeriodicBox {
 
 impl PeriodicBox {
     /// The translation (nm) of image shift `s`.
-    pub fn offset(&self, s: [i8; 2]) -> Vector {
+    pub fn offset(&self, s: [i32; 2]) -> Vector {
         Vector::new(
             f64::from(s[0]) * self.lx.unwrap_or(0.0),
             f64::from(s[1]) * self.ly.unwrap_or(0.0),
@@ -42,9 +45,9 @@ impl PeriodicBox {
         )
     }
 
-    /// All image shifts to search, (0, 0) first: |s| ≤ `reach` along each periodic axis.
-    fn shifts(&self, reach: [i8; 2]) -> Vec<[i8; 2]> {
-        let range = |p: Option<f64>, k: i8| match p {
+    /// All image shifts |s| ≤ `reach` along each periodic axis, (0, 0) first.
+    fn shifts(&self, reach: [i32; 2]) -> Vec<[i32; 2]> {
+        let range = |p: Option<f64>, k: i32| match p {
             Some(_) => std::iter::once(0)
                 .chain((1..=k.max(1)).flat_map(|i| [-i, i]))
                 .collect(),
@@ -61,11 +64,10 @@ impl PeriodicBox {
 
     /// The image shifts that can bring two segments of `segs` at `x` within reach + `skin`
     /// of each other: ⌈(span + 2ρ_max + skin)/L⌉ − 1 along each axis (at least 1), the span
-    /// being that of all nodes. Tubes that stay within half a box of it need only ±1; a dense
-    /// turf whose tubes lean across several boxes needs more.
-    fn reach(&self, segs: &SegmentSet, x: &[f64], skin: f64) -> [i8; 2] {
+    /// being that of all nodes (the brute-force reference's bound).
+    fn reach(&self, segs: &SegmentSet, x: &[f64], skin: f64) -> [i32; 2] {
         let rho = segs.reach.iter().fold(0.0f64, |m, &r| m.max(r));
-        let axis = |d: usize, l: Option<f64>| -> i8 {
+        let axis = |d: usize, l: Option<f64>| -> i32 {
             let Some(l) = l.filter(|l| *l > 0.0) else {
                 return 1;
             };
@@ -76,7 +78,7 @@ impl PeriodicBox {
                 });
             let k = ((hi - lo + 2.0 * rho + skin) / l).ceil() - 1.0;
             if k.is_finite() {
-                k.clamp(1.0, f64::from(i8::MAX)) as i8
+                k.clamp(1.0, f64::from(i16::MAX)) as i32
             } else {
                 1
             }
@@ -93,13 +95,13 @@ pub struct SegmentPair {
     /// second segment index
     pub b: u32,
     /// image shift of `b` in box periods (x, y)
-    pub shift: [i8; 2],
+    pub shift: [i32; 2],
 }
 
 impl SegmentPair {
     /// The canonical form of the pair (a, b, s) ≡ (b, a, −s); `None` for a segment with itself.
-    fn canonical(a: u32, b: u32, s: [i8; 2]) -> Option<SegmentPair> {
-        let neg = [-s[0], -s[1]];
+    fn canonical(a: u32, b: u32, s: [i32; 2]) -> Option<SegmentPair> {
+        let neg = [s[0].saturating_neg(), s[1].saturating_neg()];
         match a.cmp(&b) {
             std::cmp::Ordering::Less => Some(SegmentPair { a, b, shift: s }),
             std::cmp::Ordering::Greater => Some(SegmentPair {
@@ -188,15 +190,28 @@ pub struct Broadphase {
     skin: f64,
     bvh: Bvh,
     workspace: BvhWorkspace,
+    pieces: Vec<Piece>,
     x_ref: Vec<f64>,
     pairs: Vec<SegmentPair>,
     info: BroadphaseInfo,
-    search: ImageSearch,
 }
 
+/// Part of a segment searched as one box: the segment, and the whole periods its box was
+/// moved by into the primary cell (the box in the tree is the piece's box − w·(L_x, L_y)).
+#[derive(Debug, Clone, Copy)]
+struct Piece {
+    seg: u32,
+    wrap: [i32; 2],
+}
+
+/// Most pieces one segment is cut into, and most image shifts searched along an axis from one
+/// piece: bounds reached only by a trial state stretched across ~10² periods, whose
+/// stretching energy rules it out; the list is complete below them.
+const MAX_PIECES: usize = 256;
+const MAX_WINDOW: i32 = 16;
+
 impl Broadphase {
-    /// Build the tree and the first pair list at configuration `x`, searching the nearest
-    /// periodic images.
+    /// Build the tree and the first pair list at configuration `x`.
     pub fn new(
         segs: SegmentSet,
         pbox: PeriodicBox,
@@ -204,35 +219,18 @@ impl Broadphase {
         x: &[f64],
         keep: &dyn Fn(&SegmentPair) -> bool,
     ) -> Self {
-        Self::with_search(segs, pbox, skin, ImageSearch::Nearest, x, keep)
-    }
-
-    /// Build the tree and the first pair list at configuration `x`, searching the periodic
-    /// images as `search` says.
-    pub fn with_search(
-        segs: SegmentSet,
-        pbox: PeriodicBox,
-        skin: f64,
-        search: ImageSearch,
-        x: &[f64],
-        keep: &dyn Fn(&SegmentPair) -> bool,
-    ) -> Self {
-        let boxes: Vec<Aabb> = (0..segs.nodes.len())
-            .map(|i| segment_box(&segs, x, i, skin))
-            .collect();
-        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
         let mut bp = Broadphase {
             segs,
             pbox,
             skin,
-            bvh,
+            bvh: Bvh::new(),
             workspace: BvhWorkspace::default(),
-            x_ref: x.to_vec(),
+            pieces: Vec::new(),
+            x_ref: Vec::new(),
             pairs: Vec::new(),
             info: BroadphaseInfo::default(),
-            search,
         };
-        bp.collect_pairs(x, keep);
+        bp.rebuild(x, keep);
         bp
     }
 
@@ -284,42 +282,52 @@ impl Broadphase {
         self.rebuild(x, keep);
     }
 
-    /// Refit the tree and collect the pairs at `x`.
+    /// Cut and wrap the pieces at `x`, build the tree over them and collect the pairs.
     fn rebuild(&mut self, x: &[f64], keep: &dyn Fn(&SegmentPair) -> bool) {
-        for i in 0..self.segs.nodes.len() {
-            let b = segment_box(&self.segs, x, i, self.skin);
-            self.bvh.insert_or_update_partially(b, i as u32, 0.0);
-        }
-        self.bvh.refit(&mut self.workspace);
+        let (pieces, boxes) = wrapped_pieces(&self.segs, &self.pbox, x, self.skin);
+        self.bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
+        self.pieces = pieces;
         self.x_ref.clear();
         self.x_ref.extend_from_slice(x);
-        self.collect_pairs(x, keep);
+        self.collect_pairs(x, &boxes, keep);
     }
 
-    fn collect_pairs(&mut self, x: &[f64], keep: &dyn Fn(&SegmentPair) -> bool) {
+    /// List the pairs at `x` from the pieces' wrapped `boxes` (those the tree holds).
+    fn collect_pairs(&mut self, x: &[f64], boxes: &[Aabb], keep: &dyn Fn(&SegmentPair) -> bool) {
+        let pieces = &self.pieces;
+        let pair = |u: u32, v: u32, s: [i32; 2]| {
+            let (pu, pv) = (pieces[u as usize], pieces[v as usize]);
+            let shift = [0, 1].map(|d| pu.wrap[d].saturating_add(s[d]).saturating_sub(pv.wrap[d]));
+            SegmentPair::canonical(pu.seg, pv.seg, shift)
+        };
         let mut cand = Vec::new();
         self.bvh
-            .traverse_bvtt_single_tree::<false>(&mut self.workspace, &mut |i, j| {
-                cand.extend(SegmentPair::canonical(i, j, [0, 0]))
+            .traverse_bvtt_single_tree::<false>(&mut self.workspace, &mut |u, v| {
+                cand.extend(pair(u, v, [0, 0]))
             });
-        // the span is taken with a skin of motion to spare: the list is kept until a node
-        // moves skin/2, which may widen the span by skin
-        let reach = match self.search {
-            ImageSearch::Nearest => [1, 1],
-            ImageSearch::Span => self.pbox.reach(&self.segs, x, 2.0 * self.skin),
+        let Some(all) = boxes.iter().copied().reduce(|u, b| u.merged(&b)) else {
+            self.pairs.clear();
+            return;
         };
-        for s in self.pbox.shifts(reach).into_iter().skip(1) {
-            let off = self.pbox.offset(s);
-            for a in 0..self.segs.nodes.len() {
-                // boxes of b + off overlapping a's box ⇔ b's box overlapping a's box − off
-                let mut q = segment_box(&self.segs, x, a, self.skin);
-                q.mins -= off;
-                q.maxs -= off;
-                cand.extend(
-                    self.bvh
-                        .intersect_aabb(&q)
-                        .filter_map(|b| SegmentPair::canonical(a as u32, b, s)),
-                );
+        for (u, q) in boxes.iter().enumerate() {
+            let [wx, wy] = [(0, self.pbox.lx), (1, self.pbox.ly)]
+                .map(|(d, l)| image_window(q.mins[d], q.maxs[d], all.mins[d], all.maxs[d], l));
+            for sx in wx[0]..=wx[1] {
+                for sy in wy[0]..=wy[1] {
+                    if [sx, sy] == [0, 0] {
+                        continue;
+                    }
+                    // boxes of v + s·L overlapping u's box ⇔ v's box overlapping u's box − s·L
+                    let off = self.pbox.offset([sx, sy]);
+                    let mut q = *q;
+                    q.mins -= off;
+                    q.maxs -= off;
+                    cand.extend(
+                        self.bvh
+                            .intersect_aabb(&q)
+                            .filter_map(|v| pair(u as u32, v, [sx, sy])),
+                    );
+                }
             }
         }
         cand.sort();
@@ -331,10 +339,60 @@ impl Broadphase {
     }
 }
 
-/// Bounding box of segment i loosened by its reach + skin/2.
-fn segment_box(segs: &SegmentSet, x: &[f64], i: usize, skin: f64) -> Aabb {
-    let [p, q] = segs.ends(x, i);
-    Aabb::from_points([p, q]).loosened(segs.reach[i] + 0.5 * skin)
+/// The image shifts s (one axis) for which the interval [lo, hi] − s·l overlaps the interval
+/// [all_lo, all_hi] bounding every wrapped piece, at most [`MAX_WINDOW`] either side; `[0, 0]`
+/// on an open axis.
+fn image_window(lo: f64, hi: f64, all_lo: f64, all_hi: f64, l: Option<f64>) -> [i32; 2] {
+    let Some(l) = l.filter(|l| *l > 0.0) else {
+        return [0, 0];
+    };
+    let bound = |v: f64| v.clamp(-f64::from(MAX_WINDOW), f64::from(MAX_WINDOW)) as i32;
+    [
+        bound(((lo - all_hi) / l).ceil()),
+        bound(((hi - all_lo) / l).floor()),
+    ]
+}
+
+/// Each segment cut into pieces no longer than a period along each periodic axis (at most
+/// [`MAX_PIECES`]), and each piece's box, loosened by the segment's reach + skin/2, moved by
+/// whole periods so that its centre lies in the primary cell.
+fn wrapped_pieces(
+    segs: &SegmentSet,
+    pbox: &PeriodicBox,
+    x: &[f64],
+    skin: f64,
+) -> (Vec<Piece>, Vec<Aabb>) {
+    let periods = [pbox.lx, pbox.ly].map(|l| l.filter(|l| *l > 0.0));
+    let mut pieces = Vec::with_capacity(segs.nodes.len());
+    let mut boxes = Vec::with_capacity(segs.nodes.len());
+    for (i, &rho) in segs.reach.iter().enumerate() {
+        let [p, q] = segs.ends(x, i);
+        let cuts = (0..2)
+            .filter_map(|d| periods[d].map(|l| ((q[d] - p[d]).abs() / l).ceil()))
+            .fold(1.0f64, |m, c| if c.is_finite() { m.max(c) } else { m })
+            .min(MAX_PIECES as f64) as usize;
+        for k in 0..cuts {
+            let at = |t: f64| p + (q - p) * t;
+            let b =
+                Aabb::from_points([at(k as f64 / cuts as f64), at((k + 1) as f64 / cuts as f64)])
+                    .loosened(rho + 0.5 * skin);
+            let centre = b.center();
+            let wrap = [0, 1].map(|d| match periods[d] {
+                Some(l) => (centre[d] / l)
+                    .floor()
+                    .clamp(-f64::from(i32::MAX / 4), f64::from(i32::MAX / 4))
+                    as i32,
+                None => 0,
+            });
+            let off = pbox.offset(wrap);
+            pieces.push(Piece {
+                seg: i as u32,
+                wrap,
+            });
+            boxes.push(Aabb::new(b.mins - off, b.maxs - off));
+        }
+    }
+    (pieces, boxes)
 }
 
 #[cfg(test)]
@@ -342,8 +400,8 @@ mod tests {
     use super::*;
 
     /// Two segments two periods and 1 nm apart (a tube leaning across two boxes): the pair at
-    /// shift −2 is missed by the default search of ±1, found by the span search, by the tree
-    /// and by brute force alike.
+    /// shift −2, which a search of the nearest images (±1) misses, is found by the tree as by
+    /// brute force.
     #[test]
     fn images_beyond_one_period_are_found() {
         let segs = SegmentSet {
@@ -362,13 +420,78 @@ mod tests {
             b: 1,
             shift: [-2, 0],
         };
-        assert!(
-            !bp.pairs().contains(&want),
-            "the nearest images only by default"
-        );
-        let bp = Broadphase::with_search(segs.clone(), pbox, 0.5, ImageSearch::Span, &x, &keep);
         assert!(bp.pairs().contains(&want), "{:?}", bp.pairs());
         assert_eq!(bp.pairs(), brute_force_pairs(&segs, &x, &pbox, 0.5, &keep));
+    }
+
+    /// Chains of segments leaning across one to four boxes in x and y, in a small box: the
+    /// tree's list equals brute force's, and it holds shifts beyond ±1.
+    #[test]
+    fn leaning_chains_in_a_small_box_match_brute_force() {
+        let (tubes, per) = (6, 8);
+        let pbox = PeriodicBox {
+            lx: Some(30.0),
+            ly: Some(25.0),
+        };
+        let mut x = Vec::new();
+        let mut nodes = Vec::new();
+        for t in 0..tubes {
+            let lean = [15.0 * (t as f64 + 1.0), -9.0 * t as f64];
+            let base = [7.0 * t as f64, 3.0 * t as f64];
+            for k in 0..=per {
+                let h = k as f64 / per as f64;
+                let wiggle = 2.0 * (3.0 * h + t as f64).sin();
+                x.extend([
+                    base[0] + lean[0] * h + wiggle,
+                    base[1] + lean[1] * h,
+                    40.0 * h,
+                ]);
+            }
+            let first = t * (per + 1);
+            nodes.extend((0..per).map(|k| [first + k, first + k + 1]));
+        }
+        let segs = SegmentSet {
+            reach: vec![1.5; nodes.len()],
+            nodes,
+        };
+        let keep = |_: &SegmentPair| true;
+        let bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
+        assert_eq!(bp.pairs(), brute_force_pairs(&segs, &x, &pbox, 0.5, &keep));
+        assert!(bp.pairs().iter().any(|p| p.shift[0].abs() > 1));
+    }
+
+    /// A segment stretched across twenty periods (a line-search trial) among short ones: cut
+    /// into pieces, its contacts with every image it passes are listed as brute force lists
+    /// them; one flung 10⁹ periods away costs no search beyond the pieces' bound.
+    #[test]
+    fn a_segment_stretched_across_many_periods_is_searched_in_pieces() {
+        let segs = SegmentSet {
+            nodes: vec![[0, 1], [2, 3], [4, 5]],
+            reach: vec![1.0; 3],
+        };
+        let pbox = PeriodicBox {
+            lx: Some(40.0),
+            ly: Some(40.0),
+        };
+        let keep = |_: &SegmentPair| true;
+        let mut x = vec![
+            0.0, 5.0, 2.0, 800.0, 5.0, 2.0, // stretched along x at y = 5
+            10.0, 4.0, 0.0, 10.0, 4.0, 9.0, // upright, crossing it
+            30.0, 30.0, 0.0, 30.0, 30.0, 9.0, // upright, far from it
+        ];
+        let bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
+        assert_eq!(bp.pairs(), brute_force_pairs(&segs, &x, &pbox, 0.5, &keep));
+        assert_eq!(
+            bp.pairs().iter().filter(|p| p.a == 0 && p.b == 1).count(),
+            20
+        );
+        x[3] = 4e10;
+        let bp = Broadphase::new(segs.clone(), pbox, 0.5, &x, &keep);
+        assert!(bp.pieces.len() <= MAX_PIECES + 2);
+        assert!(bp
+            .pairs()
+            .iter()
+            .all(|p| p.shift.iter().all(|s| s.abs() < i32::MAX / 2)));
     }
 
     #[test]

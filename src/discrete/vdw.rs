@@ -60,22 +60,6 @@ pub struct VdwParams {
     /// how the inner line integral over the partner segment is evaluated (default: the point
     /// quadrature, the reference; scenes default to the table, `[turf.vdw] kernel`)
     pub kernel: VdwKernel,
-    /// which periodic images the neighbour list searches (default: the nearest, ±1 period);
-    /// set by code, not by scenes (and not part of a stage's cache key)
-    #[serde(skip)]
-    pub image_search: ImageSearch,
-}
-
-/// Which periodic image shifts the broadphase searches ([`super::broadphase`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ImageSearch {
-    /// shifts −1, 0, 1 along each periodic axis: complete while the tubes stay within about
-    /// half a box width of each other (a generated turf in a box wider than its tubes lean)
-    #[default]
-    Nearest,
-    /// every shift the nodes' span plus the reach can need (a turf packed into a box smaller
-    /// than its tubes' lean, [`super::rapier_packing`])
-    Span,
 }
 
 /// How the double line integral of a segment pair is evaluated.
@@ -104,7 +88,6 @@ impl Default for VdwParams {
             skin: 1.0,
             self_exclusion_factor: PI / 2.0,
             kernel: VdwKernel::Quadrature,
-            image_search: ImageSearch::Nearest,
         }
     }
 }

@@ -175,10 +175,7 @@ impl VdwTerm {
             VdwKernel::Tabulated => Some(Self::table(&pot, tubes)?),
         };
         let segs = SegmentSet { nodes, reach };
-        let broadphase =
-            Broadphase::with_search(segs, pbox, params.skin, params.image_search, x0, &|p| {
-                exclusion.keep(p)
-            });
+        let broadphase = Broadphase::new(segs, pbox, params.skin, x0, &|p| exclusion.keep(p));
         Ok(VdwTerm {
             pot,
             table,

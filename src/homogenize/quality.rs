@@ -78,7 +78,8 @@ pub fn law_warnings(law: &TangentLaw, strain: &[f64], stress: &[f64], fitted: bo
             w.push(format!(
                 "tangent law: eps0 = {:e} lies below the first data strain {first:e}: the \
                  transition from E0 to Einf is over before any point, so the data are a line of \
-                 slope Einf and E0 is not seen by the fit",
+                 slope Einf and E0 is not seen by the fit (at most a lower bound; compress in \
+                 finer strain steps near 0 to resolve it)",
                 law.eps0
             ));
         }

@@ -140,6 +140,17 @@ pub struct TangentLawFit {
 struct LawProblem<'a> {
     strain: &'a [f64],
     stress: &'a [f64],
+    /// smallest ε₀ the data can resolve ([`eps0_floor`])
+    eps0_min: f64,
+}
+
+/// The smallest ε₀ a curve can resolve: a tenth of its first nonzero strain. Below it the law
+/// at every sampled strain past 0 is within e⁻¹⁰ ≈ 5×10⁻⁵ of its ε₀ → 0 limit (a jump of
+/// (E⁰ − E^∞)ε₀ at the origin), so the cost only creeps down along E⁰ε₀ = const and a fit left
+/// free there never converges. A fit at the floor is flagged by
+/// [`super::quality::law_warnings`] (ε₀ below a fifth of the first strain).
+fn eps0_floor(strain: &[f64]) -> f64 {
+    strain.iter().copied().find(|&e| e > 0.0).unwrap_or(1.0) / 10.0
 }
 
 impl Problem for LawProblem<'_> {
@@ -147,6 +158,9 @@ impl Problem for LawProblem<'_> {
         3
     }
     fn residuals(&self, p: &[f64]) -> Option<DVector<f64>> {
+        if p[2] < self.eps0_min {
+            return None;
+        }
         let law = TangentLaw::new(p[0], p[1], p[2]).ok()?;
         Some(DVector::from_iterator(
             self.strain.len(),
@@ -206,10 +220,12 @@ pub fn fit_tangent_law(
     let problem = LawProblem {
         strain: &curve.strain,
         stress: &curve.stress,
+        eps0_min: eps0_floor(&curve.strain),
     };
     let mut best: Option<(Vec<f64>, lsq::Info)> = None;
     let mut last_err = None;
-    for s in starts(curve) {
+    for mut s in starts(curve) {
+        s[2] = s[2].max(problem.eps0_min);
         match lsq::solve(&problem, &s, &params.solver) {
             Ok((p, info)) => {
                 if best.as_ref().is_none_or(|(_, b)| info.cost < b.cost) {
@@ -288,5 +304,36 @@ mod tests {
         assert!((f.law.e0 / law.e0 - 1.0).abs() < EXACT_TOL, "{:?}", f.law);
         assert!((f.law.e_inf / law.e_inf - 1.0).abs() < EXACT_TOL);
         assert!((f.law.eps0 / law.eps0 - 1.0).abs() < EXACT_TOL);
+    }
+
+    /// A curve whose first strain step already holds the whole initial rise (a jump, then a
+    /// line, as a coarse compression of a 4-tube turf gives): the cost falls forever as
+    /// ε₀ → 0 with (E⁰ − E^∞)ε₀ fixed. The fit stops at ε₀'s floor, the quality check says
+    /// the rise is unresolved, and the fit's E^∞ and jump are the line's.
+    #[test]
+    fn an_initial_rise_within_the_first_step_stops_at_the_floor_of_eps0() {
+        let (slope, intercept) = (0.031, 3.5e-3);
+        let strain = vec![0.0, 0.06, 0.12, 0.18, 0.24, 0.30];
+        let stress: Vec<f64> = strain
+            .iter()
+            .map(|&e| if e > 0.0 { intercept + slope * e } else { 0.0 })
+            .collect();
+        let c = StressStrainCurve::new(strain, stress, None, "t").unwrap();
+        let f = fit_tangent_law(&c, &TangentFitParams::default()).unwrap();
+        assert!((f.law.eps0 / 0.006 - 1.0).abs() < 1e-9, "{:?}", f.law);
+        let w = super::super::quality::law_warnings(&f.law, &c.strain, &c.stress, true);
+        assert!(
+            w.iter()
+                .any(|w| w.contains("lies below the first data strain")),
+            "{w:?}"
+        );
+        // at the floor the law is the line through the points past 0 to within e⁻¹⁰ of the jump
+        let jump = (f.law.e0 - f.law.e_inf) * f.law.eps0;
+        assert!(
+            (f.law.e_inf / slope - 1.0).abs() < 1e-3,
+            "{:?} {slope}",
+            f.law
+        );
+        assert!((jump / intercept - 1.0).abs() < 1e-3, "{jump} {intercept}");
     }
 }
