@@ -118,9 +118,9 @@ fn bench(c: &mut Criterion) {
     let mut bp = Broadphase::new(segs, turf.periodic, 1.0, &x, &keep);
     let mut moved = x.clone();
     let mut sign = 1.0;
-    g.bench_function("broadphase_refit_and_pairs_100x100", |b| {
+    g.bench_function("broadphase_rebuild_and_pairs_100x100", |b| {
         b.iter(|| {
-            // every node moves by more than skin/2: a full refit and pair collection
+            // every node moves by more than skin/2: a full rebuild and pair collection
             sign = -sign;
             for (m, x0) in moved.iter_mut().zip(&x) {
                 *m = x0 + sign * 0.6;

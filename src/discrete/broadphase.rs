@@ -1,5 +1,5 @@
 //! Broadphase for segment–segment interactions: a parry BVH over segment
-//! boxes, refitted as tubes move, periodic images in x and y, and a Verlet neighbour list.
+//! boxes, rebuilt as tubes move, periodic images in x and y, and a Verlet neighbour list.
 //!
 //! A pair (a, b, s) means: segment a interacts with segment b translated by s·(L_x, L_y, 0).
 //! Segment i has a *reach* ρᵢ (its tube radius plus half the cutoff gap); a pair is listed when
@@ -254,7 +254,7 @@ impl Broadphase {
         self.pbox
     }
 
-    /// Bring the pair list up to date for `x`: rebuild (refit the tree, collect pairs) when any
+    /// Bring the pair list up to date for `x`: rebuild (the tree and the pairs) when any
     /// node has moved more than skin/2 since the last build; otherwise keep it. Returns whether
     /// it rebuilt.
     pub fn update(&mut self, x: &[f64], keep: &dyn Fn(&SegmentPair) -> bool) -> bool {
