@@ -5,8 +5,10 @@
 //! Env `C0` (Newton's damping coefficient, GPa·s/nm), `ZONE` (smallest element, nm), `INC`
 //! (increments per segment), `ONLY=riks` (skip the Newton run), `CSV` (write both runs' rows
 //! under this folder), `CONTRACTION` (the corrector's modified-Newton contraction factor) and
-//! `RIKS_INC` (the arc-length run's increments per segment, its step cap), `LOG=1` (every
-//! converged row on stderr: segment, δ/z₀, P/(πγR), iterations, wall seconds). At finite kinematics
+//! `RIKS_INC` (the arc-length run's increments per segment, its step cap), `MAX_STEPS` (its
+//! steps per segment before it stops, default 5000), `LOG=1` (every
+//! converged row on stderr: segment, δ/z₀, P/(πγR), iterations, negative eigenvalues of K_uu,
+//! wall seconds). Prints the folds and bifurcations the trace passed. At finite kinematics
 //! the solid is `tabor_sphere`'s compressible neo-Hookean (hyperfoam α = 2, β = 0, μ = E*/2).
 
 use turf::bench::presets::tabor_sphere;
@@ -27,16 +29,17 @@ const ON_BRANCH: f64 = 0.01;
 
 fn run(p: &IndentParams, scale: f64) -> IndentResult {
     let log = std::env::var("LOG").is_ok_and(|v| v == "1");
-    let z0 = p.adhesion.map_or(1.0, |a| a.law.z0());
+    let z0 = z0_of(p);
     let t0 = std::time::Instant::now();
     let mut progress = |q: &turf::continuum::indent::Progress| {
         if log {
             eprintln!(
-                "  seg {} δ/z0 {:.5} P/(πγR) {:.5} its {} t {:.1} s",
+                "  seg {} δ/z0 {:.5} P/(πγR) {:.5} its {} neg {} t {:.1} s",
                 q.segment,
                 q.row.depth_nm / z0,
                 q.row.load_nN / scale,
                 q.row.iterations,
+                q.negative_eigenvalues.map_or("?".into(), |k| k.to_string()),
                 t0.elapsed().as_secs_f64()
             );
         }
@@ -84,6 +87,9 @@ fn main() {
     if let Some(n) = env("RIKS_INC") {
         riks.solver.increments = n as usize;
     }
+    if let Some(n) = env("MAX_STEPS") {
+        riks.solver.arclength.max_steps = n as usize;
+    }
     if let Some(a) = riks.adhesion.as_mut() {
         a.damping = None;
     }
@@ -96,7 +102,7 @@ fn main() {
         traced.mesh_report.elements, traced.resolved.block.smallest
     );
     println!(
-        "  riks:   pull-off {:.4}; fold in δ {:?} P {:?}; fold out δ {:?} P {:?}; {} steps, {} cutbacks, {} iterations, {} factorisations ({} LU), wall {:.1} s (assembly {:.1}, solve {:.1})",
+        "  riks:   pull-off {:.4}; fold in δ {:?} P {:?}; fold out δ {:?} P {:?}; {} steps, {} cutbacks, {} iterations, {} factorisations ({} LU, {} LDLᵀ inertias), wall {:.1} s (assembly {:.1}, solve {:.1})",
         normalised_pull_off(&traced).unwrap_or(f64::NAN),
         s.events.fold_in.map(|r| r.drive_nm),
         s.events.fold_in.map(|r| r.load_nN / scale),
@@ -107,10 +113,25 @@ fn main() {
         traced.stats.newton_iterations,
         traced.stats.assembly.factorisations,
         traced.stats.assembly.lu_fallbacks,
+        traced.stats.assembly.inertias,
         traced.stats.wall_s,
         traced.stats.assembly.assembly_s,
         traced.stats.assembly.solve_s
     );
+    for c in &traced.critical_points {
+        println!(
+            "  {:?} (segment {}): δ/z0 {:.4} P/(πγR) {:.4}, negative eigenvalues {} → {}, λ_min {:.3e} nN/nm, |φ·g|/‖g‖ {:.3e}, mode at r = {:.1} nm",
+            c.kind,
+            c.segment,
+            c.depth_nm / z0_of(&riks),
+            c.load_nN / scale,
+            c.negative_before,
+            c.negative_after,
+            c.eigenvalue,
+            c.load_alignment,
+            c.mode_radius_nm,
+        );
+    }
     if let Ok(dir) = std::env::var("CSV") {
         traced
             .write(&std::path::Path::new(&dir).join("riks"))
@@ -194,6 +215,11 @@ fn main() {
             .write(&std::path::Path::new(&dir).join("newton"))
             .unwrap();
     }
+}
+
+/// The adhesion law's z₀ of a run, nm (1 without adhesion).
+fn z0_of(p: &IndentParams) -> f64 {
+    p.adhesion.map_or(1.0, |a| a.law.z0())
 }
 
 /// The work ∮P dδ done on the solid over the rows (trapezoidal): over a closed cycle of an

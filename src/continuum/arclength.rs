@@ -15,7 +15,15 @@
 //! back on itself at a fold. Optionally ([`ArcLengthParams::contraction`]) the corrector keeps
 //! the factorisation while the residual contracts fast enough (modified Newton). Step control: Δl ← Δl·√(N_target/N) after a step of N iterations
 //! (at most ×[`ArcLengthParams::max_growth`]), halved on failure; no step advances the
-//! controlled variable by more than the schedule's largest increment.
+//! controlled variable by more than the schedule's largest increment. A step counts as failed
+//! too when it left the curve it started on ([`ArcLengthParams::max_correction`],
+//! [`ArcLengthParams::max_turn`]): near a snapping surface several branches lie close together,
+//! and a long step's hyperplane meets the wrong one.
+//!
+//! At each converged point the negative eigenvalues of K_uu are counted (the inertia of its
+//! LDLᵀ factorisation; none where the corrector's last factorisation was a Cholesky), and each
+//! step whose count changes is classified as a fold or a bifurcation ([`super::bifurcation`]),
+//! with its critical mode, into [`IndentResult::critical_points`].
 //!
 //! The drive only decides where a schedule segment ends and what the drive column holds: δ
 //! (displacement control), Δ = δ + P/K (a machine spring), or P (load control). A segment ends
@@ -26,9 +34,12 @@
 //! travel over the segment's rate.
 
 use super::assembly::{Assembler, Evaluation, Solid};
+use super::bifurcation::{classify, critical_mode, CriticalPoint};
 use super::contact::Contact;
 use super::element::Kinematics;
-use super::indent::{snapshot, IndentParams, IndentResult, Progress, Row, Segment};
+use super::indent::{
+    snapshot, ArcLengthParams, IndentParams, IndentResult, Progress, Row, Segment,
+};
 use super::machine::Machine;
 use super::newton::NewtonParams;
 use super::FeError;
@@ -48,6 +59,14 @@ pub enum ArcLengthError {
     Tangent {
         /// the Schur complement t_δ − t_u·K⁻¹g
         schur: f64,
+    },
+    /// a step's corrector found a point off the curve the step started on
+    #[error("arc-length step left the curve: corrector moved {correction:.2} step lengths, tangent turned {turn:.2} rad")]
+    LeftCurve {
+        /// the corrector's move over the step length
+        correction: f64,
+        /// the angle between the tangents at both ends, rad
+        turn: f64,
     },
     /// the corrector reached its iteration limit
     #[error(
@@ -195,6 +214,8 @@ pub struct Point {
     pub b: Vec<f64>,
     /// corrector iterations that found it
     pub iterations: usize,
+    /// negative eigenvalues of K_uu there (None: not counted, or a zero pivot)
+    pub negative: Option<usize>,
 }
 
 impl Point {
@@ -267,6 +288,7 @@ impl Curve<'_> {
                     ev,
                     b: corrector.b,
                     iterations: info.iterations,
+                    negative: None,
                 })
             }
             Err(NewtonError::NoConvergence {
@@ -317,6 +339,57 @@ impl Curve<'_> {
         self.correct(y, &Constraint::Target { control, value })
     }
 
+    /// `pt`, just found by a corrector, with the negative eigenvalues of its K_uu counted:
+    /// none if the corrector's last factorisation, a step of the order of the tolerance away,
+    /// was a Cholesky; else by an LDLᵀ factorisation there (the unstable stretches).
+    fn counted(&mut self, mut pt: Point) -> Result<Point, ArcLengthError> {
+        pt.negative = if self.asm.holds_cholesky() {
+            Some(0)
+        } else {
+            self.asm.negative_eigenvalues(&pt.ev.values)?
+        };
+        Ok(pt)
+    }
+
+    /// The critical point a step from `pt` to `next` passed, if any: its kind from the
+    /// inertia and the turn of δ (`t_before`, `t_after` the tangents there), its mode from
+    /// K_uu at `next`.
+    fn critical(
+        &mut self,
+        pt: &Point,
+        next: &Point,
+        t_before: &[f64],
+        t_after: &[f64],
+        segment: usize,
+    ) -> Result<Option<CriticalPoint>, ArcLengthError> {
+        let n = self.solid.dofs();
+        let fold = t_before[n] * t_after[n] < 0.0;
+        let Some(kind) = classify(pt.negative, next.negative, fold) else {
+            return Ok(None);
+        };
+        let (eigenvalue, mode) = critical_mode(self.asm, &next.ev.values, n)?;
+        let g = &next.ev.load_gradient;
+        let load_alignment = dot(&mode, g).abs() / norm(g).max(f64::MIN_POSITIVE);
+        let node = (0..self.solid.nodes.len())
+            .max_by(|&i, &j| {
+                let m = |k: usize| mode[2 * k].hypot(mode[2 * k + 1]);
+                m(i).total_cmp(&m(j))
+            })
+            .unwrap_or(0);
+        let point = CriticalPoint {
+            segment,
+            kind,
+            depth_nm: next.y[n],
+            load_nN: next.ev.load,
+            negative_before: pt.negative.unwrap_or(0),
+            negative_after: next.negative.unwrap_or(0),
+            eigenvalue,
+            load_alignment,
+            mode_radius_nm: self.solid.nodes[node][0],
+        };
+        Ok(Some(point))
+    }
+
     /// One step of length `dl` from `from` along its unit tangent `t`.
     pub fn step(&mut self, from: &[f64], t: &[f64], dl: f64) -> Result<Point, ArcLengthError> {
         let predicted: Vec<f64> = from.iter().zip(t).map(|(y, t)| y + dl * t).collect();
@@ -328,6 +401,37 @@ impl Curve<'_> {
             },
         )
     }
+}
+
+/// `next`, a step of length `l` from `pt` along `t`, if it stayed on the curve it started on;
+/// else [`ArcLengthError::LeftCurve`] (the step is cut back). A smooth curve turns little over
+/// a step much shorter than its radius of curvature, and the corrector moves the prediction by
+/// about κl²/2: a corrector that moved it by more than `max_correction`·l, or a tangent that
+/// turned by more than `max_turn`, means the hyperplane met another branch of the curve (the
+/// close branches of a snapping surface, ring by ring) rather than this one.
+fn follows(
+    pt: &Point,
+    t: &[f64],
+    next: Point,
+    l: f64,
+    params: &ArcLengthParams,
+) -> Result<Point, ArcLengthError> {
+    let correction = next
+        .y
+        .iter()
+        .zip(pt.y.iter().zip(t))
+        .map(|(y, (y0, t))| (y - y0 - l * t).powi(2))
+        .sum::<f64>()
+        .sqrt()
+        / l;
+    let secant: Vec<f64> = next.y.iter().zip(&pt.y).map(|(a, b)| a - b).collect();
+    let turn = dot(t, &next.tangent(|u| dot(u, &secant)))
+        .clamp(-1.0, 1.0)
+        .acos();
+    if correction > params.max_correction || turn > params.max_turn {
+        return Err(ArcLengthError::LeftCurve { correction, turn });
+    }
+    Ok(next)
 }
 
 /// The corrector's plug-ins to the Newton loop: full steps on the bordered system of r(u, δ)
@@ -464,6 +568,34 @@ impl Curve<'_> {
         }
     }
 
+    /// Count a converged point: its row, the run's totals and the progress report.
+    fn record(
+        &self,
+        pt: &Point,
+        time: f64,
+        segment: usize,
+        p: &IndentParams,
+        result: &mut IndentResult,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<(), ArcLengthError> {
+        result.stats.increments += 1;
+        result.stats.newton_iterations += pt.iterations;
+        let small = p.kinematics == Kinematics::Small;
+        let row = self.row(pt, time, segment, p.machine, small);
+        result.rows.push(row);
+        progress(&Progress {
+            segment,
+            segments: p.schedule.len(),
+            row,
+            elements: self.solid.elements.len(),
+            negative_eigenvalues: pt.negative,
+        });
+        if crate::interrupt::requested() {
+            return Err(ArcLengthError::Interrupted);
+        }
+        Ok(())
+    }
+
     /// Trace the schedule of `p` from the state `y` (u, δ = start): rows, snapshots and, under
     /// load control, the separation go into `result`. An error says why the curve stopped
     /// (the rows so far are kept in `result`).
@@ -476,7 +608,8 @@ impl Curve<'_> {
     ) -> Result<(), ArcLengthError> {
         let n = self.solid.dofs();
         let small = p.kinematics == Kinematics::Small;
-        let mut pt = self.at(y, Control::Depth, p.start)?;
+        let start = self.at(y, Control::Depth, p.start)?;
+        let mut pt = self.counted(start)?;
         result.rows[0] = self.row(&pt, 0.0, 0, p.machine, small);
         let mut time = 0.0;
         let mut dl: Option<f64> = None;
@@ -516,7 +649,10 @@ impl Curve<'_> {
                 } else {
                     length
                 };
-                let next = match self.step(&pt.y, &t, l) {
+                let stepped = self
+                    .step(&pt.y, &t, l)
+                    .and_then(|next| follows(&pt, &t, next, l, &p.solver.arclength));
+                let next = match stepped {
                     Ok(next) => next,
                     Err(e) => {
                         cutbacks += 1;
@@ -538,27 +674,21 @@ impl Curve<'_> {
                 cutbacks = 0;
                 let v = control.value(pt.y[n], pt.ev.load);
                 let (next, reached) = self.land(&pt, next, control, target, dir)?;
+                let next = self.counted(next)?;
                 let v_end = control.value(next.y[n], next.ev.load);
                 time += (v_end - v).abs() / rate;
-                result.stats.increments += 1;
-                result.stats.newton_iterations += next.iterations;
-                let row = self.row(&next, time, si, p.machine, small);
-                result.rows.push(row);
-                progress(&Progress {
-                    segment: si,
-                    segments: p.schedule.len(),
-                    row,
-                    elements: self.solid.elements.len(),
-                });
-                if crate::interrupt::requested() {
-                    return Err(ArcLengthError::Interrupted);
-                }
+                self.record(&next, time, si, p, result, progress)?;
                 let secant: Vec<f64> = next.y.iter().zip(&pt.y).map(|(a, b)| a - b).collect();
-                t = next.tangent(|t| dot(t, &secant));
+                let t_next = next.tangent(|t| dot(t, &secant));
                 let its = next.iterations.max(1) as f64;
                 let target_its = p.solver.arclength.target_iterations as f64;
                 length = l * (target_its / its).sqrt().min(p.solver.arclength.max_growth);
+                let critical = self.critical(&pt, &next, &t, &t_next, si)?;
+                t = t_next;
                 pt = next;
+                if let Some(point) = critical {
+                    result.critical_points.push(point);
+                }
                 if reached {
                     break;
                 }
@@ -586,6 +716,40 @@ impl Curve<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A point at `y` whose tangent is (−b, 1) normalised.
+    fn point(y: Vec<f64>, b: f64) -> Point {
+        Point {
+            y,
+            ev: Evaluation::default(),
+            b: vec![b],
+            iterations: 1,
+            negative: None,
+        }
+    }
+
+    #[test]
+    fn a_step_that_jumps_to_another_branch_is_refused() {
+        // one dof u and δ: the curve through the origin along δ (tangent (0, 1)), l = 0.1
+        let params = ArcLengthParams::default();
+        let (t, l) = ([0.0, 1.0], 0.1);
+        let from = point(vec![0.0, 0.0], 0.0);
+        // on the line, same tangent: kept
+        assert!(follows(&from, &t, point(vec![0.0, 0.1], 0.0), l, &params).is_ok());
+        // a small correction (0.2 l) and a small turn (0.1 rad): kept
+        let bent = point(vec![0.02, 0.1], -(0.1f64).tan());
+        assert!(follows(&from, &t, bent, l, &params).is_ok());
+        // the corrector moved the point two step lengths: refused
+        let far = follows(&from, &t, point(vec![0.2, 0.1], 0.0), l, &params);
+        assert!(
+            matches!(far, Err(ArcLengthError::LeftCurve { correction, .. }) if (correction - 2.0).abs() < 1e-12)
+        );
+        // on the prediction, but the tangent there turned by atan 5 = 1.37 rad: refused
+        let turned = follows(&from, &t, point(vec![0.0, 0.1], -5.0), l, &params);
+        assert!(
+            matches!(turned, Err(ArcLengthError::LeftCurve { turn, .. }) if (turn - 5f64.atan()).abs() < 1e-12)
+        );
+    }
 
     #[test]
     fn control_rates_are_the_derivatives_of_the_control_values() {

@@ -174,6 +174,9 @@ pub struct AssemblyStats {
     pub solve_s: f64,
     /// factorisations where Cholesky failed and LU was used
     pub lu_fallbacks: usize,
+    /// LDLᵀ factorisations that counted the stiffness's negative eigenvalues (arc-length, at
+    /// each converged point; their time is in `solve_s`)
+    pub inertias: usize,
 }
 
 /// Energy, gradient and tangent of the whole problem at one state.
@@ -367,6 +370,26 @@ impl Assembler {
             other => other,
         };
         self.stats.factorisations += 1;
+        self.stats.solve_s += t0.elapsed().as_secs_f64();
+        Ok(out?)
+    }
+
+    /// True if the factorisation held is a Cholesky: the stiffness it factorised is positive
+    /// definite.
+    pub fn holds_cholesky(&self) -> bool {
+        self.system.is_cholesky()
+    }
+
+    /// The number of negative eigenvalues of the stiffness `values` (None where the LDLᵀ
+    /// factorisation meets a zero pivot); drops the factorisation held.
+    pub fn negative_eigenvalues(&mut self, values: &[f64]) -> Result<Option<usize>, FeError> {
+        let t0 = Instant::now();
+        let out = match self.system.negative_eigenvalues(values) {
+            Ok(n) => Ok(Some(n)),
+            Err(SparseError::Singular) => Ok(None),
+            Err(e) => Err(e),
+        };
+        self.stats.inertias += 1;
         self.stats.solve_s += t0.elapsed().as_secs_f64();
         Ok(out?)
     }

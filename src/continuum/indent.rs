@@ -12,6 +12,7 @@
 
 use super::adhesion::{self, AdhesionParams};
 use super::assembly::{AssemblyStats, Solid};
+use super::bifurcation::CriticalPoint;
 use super::contact::{Contact, ProfilePoint, SmoothPenalty};
 use super::element::Kinematics;
 use super::indenter::Indenter;
@@ -233,6 +234,11 @@ pub struct ArcLengthParams {
     /// reduces the residual at least by this factor, refactorise otherwise (0: full Newton,
     /// a factorisation per iteration)
     pub contraction: f64,
+    /// a step whose corrector moves the prediction by more than this many step lengths has
+    /// left the curve: it is cut back
+    pub max_correction: f64,
+    /// a step whose tangent turns by more than this, rad, has left the curve: it is cut back
+    pub max_turn: f64,
 }
 
 impl Default for ArcLengthParams {
@@ -242,6 +248,8 @@ impl Default for ArcLengthParams {
             max_growth: 2.0,
             max_steps: 5000,
             contraction: 0.0,
+            max_correction: 0.5,
+            max_turn: 0.5,
         }
     }
 }
@@ -739,6 +747,8 @@ pub struct IndentResult {
     pub mesh_report: MeshReport,
     /// with adaptive meshing: every mesh of the run, the first at increment 0
     pub adaptation: Vec<Adaptation>,
+    /// arc-length: the folds and bifurcations the traced curve passed
+    pub critical_points: Vec<CriticalPoint>,
     /// one row per converged increment (and the initial state)
     pub rows: Vec<Row>,
     /// deformed states at the end of each segment
@@ -765,6 +775,9 @@ pub struct Progress {
     pub row: Row,
     /// triangles of the mesh it converged on
     pub elements: usize,
+    /// arc-length: negative eigenvalues of the stiffness at fixed depth there (0 on a stable
+    /// branch under displacement control; None where not counted)
+    pub negative_eigenvalues: Option<usize>,
 }
 
 /// The sizes and the mesh a run of `p` would build, without solving anything (`turf check`).

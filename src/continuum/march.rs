@@ -196,6 +196,7 @@ impl<'a> March<'a> {
                     elements: mesh.triangles.len(),
                 })
                 .collect(),
+            critical_points: Vec::new(),
             mesh,
             rows: vec![Row {
                 time_s: 0.0,
@@ -512,6 +513,7 @@ impl<'a> March<'a> {
             segments: p.schedule.len(),
             row,
             elements: self.solid.elements.len(),
+            negative_eigenvalues: None,
         });
         // a band wider than the converged state needs (after a jump, or as the contact
         // shrinks) narrows to it

@@ -32,6 +32,7 @@
 pub mod adhesion;
 pub mod arclength;
 pub mod assembly;
+pub mod bifurcation;
 pub mod contact;
 pub mod damping;
 pub mod element;

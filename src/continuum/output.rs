@@ -53,6 +53,11 @@ pub struct Summary<'a> {
     /// adaptive meshing: every mesh of the run (increment it took over at, edge, elements)
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     pub adaptation: &'a [super::indent::Adaptation],
+    /// arc-length: the folds and bifurcations the traced curve passed (kind, depth, load,
+    /// negative eigenvalues of K_uu before and after, the critical mode's eigenvalue, its load
+    /// alignment and where it moves most)
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub critical_points: &'a [super::bifurcation::CriticalPoint],
 }
 
 /// What [`IndentResult::write`] wrote besides the CSV, the summary and the VTU files.
@@ -94,6 +99,7 @@ impl IndentResult {
             cost: &self.stats,
             params: &self.params,
             adaptation: &self.adaptation,
+            critical_points: &self.critical_points,
         }
     }
 

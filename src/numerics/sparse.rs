@@ -15,8 +15,11 @@
 //! sparse API.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
@@ -306,17 +309,7 @@ impl SparseSystem {
 
     /// Cholesky of the loaded values.
     fn factor_llt(&mut self) -> Result<(), SparseError> {
-        if self.llt.is_none() {
-            let sym = factorize_symbolic_cholesky(
-                self.pattern.symbolic.as_ref(),
-                Side::Lower,
-                Default::default(),
-                Default::default(),
-            )
-            .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
-            self.llt_values = vec![0.0; sym.len_val()];
-            self.llt = Some(sym);
-        }
+        self.symbolic_cholesky()?;
         let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
         let req = sym
             .factorize_numeric_llt_scratch::<f64>(PAR, Default::default())
@@ -334,6 +327,22 @@ impl SparseSystem {
         )
         .map_err(|_| SparseError::NotPositiveDefinite)?;
         self.held = Held::Llt;
+        Ok(())
+    }
+
+    /// The symbolic Cholesky (and LDLᵀ) analysis of the pattern, built once.
+    fn symbolic_cholesky(&mut self) -> Result<(), SparseError> {
+        if self.llt.is_none() {
+            let sym = factorize_symbolic_cholesky(
+                self.pattern.symbolic.as_ref(),
+                Side::Lower,
+                Default::default(),
+                Default::default(),
+            )
+            .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
+            self.llt_values = vec![0.0; sym.len_val()];
+            self.llt = Some(sym);
+        }
         Ok(())
     }
 
@@ -364,9 +373,58 @@ impl SparseSystem {
         Ok(())
     }
 
+    /// The number of negative eigenvalues of a symmetric matrix (lower triangle read): by
+    /// Sylvester's law of inertia, the number of negative pivots of its LDLᵀ factorisation in
+    /// the fill-reducing order, without pivoting. That needs no zero pivot on the way: a
+    /// matrix with a positive diagonal and a few negative eigenvalues (a stiffness past a
+    /// limit or bifurcation point) passes, a saddle point with a zero block does not (then
+    /// [`SparseError::Singular`]). Drops the factorisation held.
+    pub fn negative_eigenvalues(&mut self, values: &[f64]) -> Result<usize, SparseError> {
+        self.load(values)?;
+        self.symbolic_cholesky()?;
+        let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
+        let req = sym.factorize_numeric_ldlt_scratch::<f64>(PAR, Default::default());
+        self.reserve(req)?;
+        let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
+        sym.factorize_numeric_ldlt(
+            &mut self.llt_values,
+            SparseColMatRef::new(self.pattern.symbolic.as_ref(), &self.values),
+            Side::Lower,
+            LdltRegularization::default(),
+            PAR,
+            MemStack::new(&mut self.workspace),
+            Default::default(),
+        )
+        .map_err(|_| SparseError::Singular)?;
+        // D sits where L's unit diagonal would: first in each column (simplicial), on the
+        // diagonal of each supernode's column-major diagonal block (supernodal)
+        let d = &self.llt_values;
+        let negative = match sym.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => s.col_ptr()[..self.n]
+                .iter()
+                .filter(|&&k| d[k] < 0.0)
+                .count(),
+            SymbolicCholeskyRaw::Supernodal(s) => (0..s.n_supernodes())
+                .map(|k| {
+                    let width = s.supernode_end()[k] - s.supernode_begin()[k];
+                    let below = s.col_ptr_for_row_idx()[k + 1] - s.col_ptr_for_row_idx()[k];
+                    let rows = width + below;
+                    let block = &d[s.col_ptr_for_val()[k]..s.col_ptr_for_val()[k + 1]];
+                    (0..width).filter(|&j| block[j * rows + j] < 0.0).count()
+                })
+                .sum(),
+        };
+        Ok(negative)
+    }
+
     /// True if the factorisation held is an LU (the matrix was not positive definite).
     pub fn is_lu(&self) -> bool {
         self.held == Held::Lu
+    }
+
+    /// True if the factorisation held is a Cholesky (the matrix was positive definite).
+    pub fn is_cholesky(&self) -> bool {
+        self.held == Held::Llt
     }
 
     /// Solve A x = rhs with the factorisation held (the last successful `factor_*` since the
@@ -593,6 +651,66 @@ mod tests {
         );
         let x = sys.solve_lu(&val, &[1.0, 1.0]).unwrap();
         assert!((x[0] - 1.0).abs() < 1e-12 && (x[1] + 1.0).abs() < 1e-12);
+    }
+
+    /// The Laplacian of an m^d grid (2d + 1 points) with Dirichlet sides, shifted by −σ, and
+    /// how many of its eigenvalues 2d − 2Σᵢcos(kᵢπ/(m+1)) − σ, kᵢ = 1..m, are negative.
+    fn shifted_grid_laplacian(
+        m: usize,
+        d: u32,
+        sigma: f64,
+    ) -> (Vec<(usize, usize)>, Vec<f64>, usize) {
+        let n = m.pow(d);
+        let (mut pos, mut val) = (Vec::new(), Vec::new());
+        for i in 0..n {
+            pos.push((i, i));
+            val.push(2.0 * d as f64 - sigma);
+            for axis in 0..d {
+                let stride = m.pow(axis);
+                if (i / stride) % m + 1 < m {
+                    pos.extend([(i, i + stride), (i + stride, i)]);
+                    val.extend([-1.0, -1.0]);
+                }
+            }
+        }
+        let h = std::f64::consts::PI / (m + 1) as f64;
+        let mut negative = 0;
+        for i in 0..n {
+            let lambda: f64 = (0..d)
+                .map(|axis| {
+                    let k = (i / m.pow(axis)) % m + 1;
+                    2.0 - 2.0 * (k as f64 * h).cos()
+                })
+                .sum();
+            assert!(
+                (lambda - sigma).abs() > 1e-6,
+                "σ too close to an eigenvalue"
+            );
+            negative += usize::from(lambda < sigma);
+        }
+        (pos, val, negative)
+    }
+
+    #[test]
+    fn the_negative_pivots_count_the_negative_eigenvalues() {
+        // a 2-D grid (simplicial factor) and a 3-D one (supernodal), each at shifts from
+        // definite to well inside the spectrum, against the closed-form eigenvalues
+        for (m, d, supernodal) in [(30, 2, false), (16, 3, true)] {
+            for sigma in [0.01, 0.3, 1.01, 2.7, 3.3] {
+                let (pos, val, expected) = shifted_grid_laplacian(m, d, sigma);
+                let mut sys = SparseSystem::new(m.pow(d), &pos).unwrap();
+                let negative = sys.negative_eigenvalues(&val).unwrap();
+                assert_eq!(negative, expected, "m = {m}, d = {d}, σ = {sigma}");
+                let raw = sys.llt.as_ref().unwrap().raw();
+                assert_eq!(
+                    matches!(raw, SymbolicCholeskyRaw::Supernodal(_)),
+                    supernodal,
+                    "{m}^{d} grid: not the factor kind this case is meant to exercise"
+                );
+            }
+        }
+        assert_eq!(shifted_grid_laplacian(30, 2, 0.01).2, 0);
+        assert!(shifted_grid_laplacian(16, 3, 0.3).2 > 0);
     }
 
     #[test]

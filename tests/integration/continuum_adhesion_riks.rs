@@ -5,6 +5,7 @@
 //! `cargo run --release --example continuum_riks -- 2`.
 
 use turf::bench::presets::tabor_sphere;
+use turf::continuum::bifurcation::CriticalKind;
 use turf::continuum::element::Kinematics;
 use turf::continuum::events::normalised_pull_off;
 use turf::continuum::events::{curve_distance, spring_pull_off};
@@ -102,6 +103,23 @@ fn riks_passes_both_folds_and_any_machine_at_mu_1() {
         traced.stats.assembly.lu_fallbacks > 0,
         "the unstable branch is indefinite"
     );
+    // the inertia of K_uu sees the same folds, two per segment: one eigenvalue crosses zero
+    // where the trace turns in δ (0 → 1 → 0 negative), the indenter loads the critical mode,
+    // and no other branch crosses the S-curve
+    let critical = &traced.critical_points;
+    assert_eq!(critical.len(), 4, "{critical:?}");
+    for (c, (before, after)) in critical.iter().zip([(0, 1), (1, 0), (0, 1), (1, 0)]) {
+        assert_eq!(c.kind, CriticalKind::Fold, "{c:?}");
+        assert_eq!((c.negative_before, c.negative_after), (before, after));
+        assert!(c.load_alignment > 0.05, "{c:?}");
+    }
+    let z0 = p.adhesion.unwrap().law.z0();
+    for (c, fold) in [(&critical[0], fin), (&critical[1], fout)] {
+        assert!(
+            (c.depth_nm - fold.depth_nm).abs() < 0.01 * z0,
+            "{c:?} vs {fold:?}"
+        );
+    }
 
     // a spring K = 0.5 πγR/z₀: its fold is the displacement trace's point of slope −K
     let k = 0.5 * sc;
