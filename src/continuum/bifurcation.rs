@@ -8,9 +8,10 @@
 //! step whose count changes by more than its folds in δ explain has passed a bifurcation (the
 //! determinant of the bordered system [K_uu g; tᵀ], sign(det K_uu)·sign(t_δ), changed sign).
 //! The critical mode — K_uu's eigenvector of the eigenvalue nearest zero, by inverse iteration
-//! with one factorisation — is the direction to leave the curve along, and its product with
-//! g = ∂²Π/∂u∂δ separates the kinds once more: a fold's mode is loaded by the indenter (φ·g ≠ 0),
-//! a simple bifurcation's is not.
+//! with one factorisation — is the direction a branch switch would leave the curve along (not
+//! built: no traced path has shown a bifurcation yet), and its product with g = ∂²Π/∂u∂δ
+//! separates the kinds once more: a fold's mode is loaded by the indenter (φ·g ≠ 0), a simple
+//! bifurcation's is not.
 
 use super::assembly::Assembler;
 use super::FeError;
@@ -66,9 +67,9 @@ pub fn classify(before: Option<usize>, after: Option<usize>, fold: bool) -> Opti
     }
 }
 
-/// The critical mode at a stiffness `values` of `dofs` unknowns: K_uu's eigenvalue nearest zero and its unit
-/// eigenvector (constrained dofs zero), by inverse iteration x ← K⁻¹x from a seed that moves
-/// every free dof, with one factorisation. The eigenvalue is the Rayleigh quotient xᵀy/yᵀy of
+/// The critical mode at a stiffness `values` of `dofs` unknowns: K_uu's eigenvalue nearest
+/// zero and its unit eigenvector (constrained dofs zero), by inverse iteration x ← K⁻¹x from a
+/// seed that moves every free dof, with one factorisation. The eigenvalue is the Rayleigh quotient xᵀy/yᵀy of
 /// y = K⁻¹x; iterations stop when it changes by less than 1e-8 relative, or after 60.
 pub fn critical_mode(
     asm: &mut Assembler,
