@@ -63,6 +63,7 @@ pub fn tabor_sphere(mu: f64, r_over_z0: f64, kind: LjKind, kinematics: Kinematic
             gap: 6.0 * z0,
             eta: 0.5,
         }),
+        area: Default::default(),
     });
     p.solver.increments = 140;
     // validated on a 50a block (docs/validation-continuum.md); on the 200a default, the

@@ -9,6 +9,7 @@
 //! ([`crate::theory::process_zone`], PHYSICS.md; for a shifted law σ_peak is σ_max/b) with
 //! [`ZONE_ELEMENTS`] elements, unless the contact radius asks for finer ones.
 
+use super::contact::SurfaceArea;
 use super::damping::{ContactDamping, DampingError};
 use super::indenter::Indenter;
 use crate::laws::SurfaceLaw;
@@ -42,6 +43,9 @@ pub struct AdhesionParams {
     /// contact damping, if any
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<ContactDamping>,
+    /// the area element under finite kinematics ([`SurfaceArea`]; reference by default)
+    #[serde(default)]
+    pub area: SurfaceArea,
 }
 
 impl AdhesionParams {
@@ -105,6 +109,7 @@ mod tests {
         let a = AdhesionParams {
             law: LennardJones::new(LjKind::Lj93, 0.03, 0.5).into(),
             damping: None,
+            area: Default::default(),
         };
         let (r, e) = (800.0, 1.3);
         let mu = a.tabor(r, e).unwrap();

@@ -1,6 +1,19 @@
 //! Frictionless interaction of the specimen's surface with the rigid indenter through a
-//! surface law: Π_c = ∫ φ(g) dA over the current surface, dA = 2πr ds (seed §4.2, eq. 4.1 for
-//! the Lennard-Jones law of the adhesion issue).
+//! surface law: Π_c = ∫ φ(g) dA, dA = 2πr ds (seed §4.2, eq. 4.1 for the Lennard-Jones law of
+//! the adhesion issue), the gap g taken at the current surface point.
+//!
+//! **Which area** ([`SurfaceArea`]). Under finite kinematics the area element is either the
+//! reference one, dA₀ = 2πR dS, or the current one, da = 2πr ds. A surface law stands for the
+//! interaction of the surface's atoms (for a turf, its tube ends) with the indenter; stretching
+//! the surface does not create atoms, so their number per *reference* area is fixed and the
+//! energy is ∫ φ(g) dA₀ ([`SurfaceArea::Reference`], the default for adhesion). Integrating
+//! over the current area instead adds to the surface a stress φ(g) per unit length: −γ in the
+//! contact, a surface that lowers its energy by stretching, with nothing but the bulk to resist
+//! it at short wavelengths. Under strong adhesion on a compliant solid (μ = 3, R/z₀ = 200,
+//! γ/E\* = 0.37 z₀) that pins the contact edge element by element and the pull-off grows
+//! without bound as the mesh refines (docs/validation-continuum.md); on the reference area it
+//! converges. [`SurfaceArea::Current`] is kept for the repulsive penalty (a pressure on the
+//! current surface) and for comparison.
 //!
 //! The surface z = 0 is a chain of straight segments between surface nodes x₁, x₂. On each,
 //! Gauss–Legendre points ξ_q with weights w_q on [0, 1] give
@@ -9,8 +22,10 @@
 //!
 //! whose gradient and Hessian in (x₁, x₂) are exact: with φ′ = −p, φ″ = −k (k = dp/dg),
 //! ∂φ = −p ∇g Nₐ, ∂²φ = (−k ∇g⊗∇g − p ∇²g) NₐN_b, ∂L = [−e, e], ∂²L = (I − e⊗e)/L blocks,
-//! ∂r_q = Nₐ on the r components; the product rule on L·r·φ gives the rest. Under small
-//! kinematics L and r are the reference ones and only φ varies. The load on the indenter is
+//! ∂r_q = Nₐ on the r components; the product rule on L·r·φ gives the rest. On the
+//! current area (finite kinematics, [`SurfaceArea::Current`]) L and r are the current ones; on
+//! the reference area, and always under small kinematics, they are the reference ones and only
+//! φ varies. The load on the indenter is
 //! P = ∂Π_c/∂δ = −2π Σ w L r p n_z (compressive positive, since ∂g/∂δ = n_z).
 //!
 //! **Small kinematics** linearise the contact as Hertz and the half-space solver do: the
@@ -112,6 +127,18 @@ impl SurfaceLaw for SmoothPenalty {
     }
 }
 
+/// The area element the law's energy per area is integrated over under finite kinematics (see
+/// the module doc); small kinematics always use the reference surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SurfaceArea {
+    /// dA₀ = 2πR dS: the surface's atoms conserved (adhesion's default)
+    #[default]
+    Reference,
+    /// da = 2πr ds: the current surface (the repulsive penalty)
+    Current,
+}
+
 /// The point at ξ ∈ [0, 1] along a surface segment whose current ends are `x` and reference
 /// ends `x_ref`: current under finite kinematics, (R, Z + u_z) under small.
 fn surface_point(x: [[f64; 2]; 2], x_ref: [[f64; 2]; 2], xi: f64, small: bool) -> [f64; 2] {
@@ -138,6 +165,8 @@ pub struct Contact<'a> {
     pub damping: Option<Damping<'a>>,
     /// the tangential hold of the points in contact, if any
     pub stick: Option<Stick<'a>>,
+    /// the area element under finite kinematics
+    pub area: SurfaceArea,
 }
 
 /// A surface point held by the indenter: where it first touched, in the indenter's frame.
@@ -291,13 +320,15 @@ impl Contact<'_> {
         small: bool,
     ) -> SegmentOutput {
         let two_pi = 2.0 * std::f64::consts::PI;
-        let geo = if small { x_ref } else { x };
+        // the geometry of the area element: the reference surface, or the current one
+        let on_reference = small || self.area == SurfaceArea::Reference;
+        let geo = if on_reference { x_ref } else { x };
         let d = [geo[1][0] - geo[0][0], geo[1][1] - geo[0][1]];
         let len = d[0].hypot(d[1]);
         let e = [d[0] / len, d[1] / len];
         let mut dl = [0.0; 4];
         let mut d2l = [[0.0; 4]; 4];
-        if !small {
+        if !on_reference {
             dl = [-e[0], -e[1], e[0], e[1]];
             for i in 0..2 {
                 for j in 0..2 {
@@ -360,7 +391,7 @@ impl Contact<'_> {
             let mut d2phi = [[0.0; 4]; 4];
             let mut dr = [0.0; 4];
             for a in 0..2 {
-                if !small {
+                if !on_reference {
                     dr[2 * a] = nsh[a];
                 }
                 for i in 0..2 {
@@ -492,7 +523,20 @@ mod tests {
     const FD_TOL: f64 = 1e-6; // central differences with step 1e-6 nm
 
     fn check(law: &dyn SurfaceLaw, ind: Indenter, x: [[f64; 2]; 2], depth: f64, small: bool) {
-        check_with(law, ind, x, depth, small, None, None);
+        for area in [SurfaceArea::Reference, SurfaceArea::Current] {
+            check_area(law, ind, x, depth, (small, area));
+        }
+    }
+
+    /// `kin`: (small kinematics, area element).
+    fn check_area(
+        law: &dyn SurfaceLaw,
+        ind: Indenter,
+        x: [[f64; 2]; 2],
+        depth: f64,
+        kin: (bool, SurfaceArea),
+    ) {
+        check_with(law, ind, x, depth, kin, None, None);
         // damping with start-of-step gaps a little above the current ones (closing gap)
         let previous: Vec<f64> = (0..3)
             .map(|q| ind.gap(x[0], depth).gap + 0.05 * (q + 1) as f64)
@@ -506,7 +550,7 @@ mod tests {
             previous: &previous,
             dt: 0.3,
         };
-        check_with(law, ind, x, depth, small, Some(d), None);
+        check_with(law, ind, x, depth, kin, Some(d), None);
         // two of the three points held, anchored off their current places, one free
         let anchor = |dy: [f64; 2], angle: f64| {
             Some(Anchor {
@@ -519,8 +563,8 @@ mod tests {
             stiffness: 2.5,
             anchors: &anchors,
         };
-        check_with(law, ind, x, depth, small, None, Some(stick));
-        check_with(law, ind, x, depth, small, Some(d), Some(stick));
+        check_with(law, ind, x, depth, kin, None, Some(stick));
+        check_with(law, ind, x, depth, kin, Some(d), Some(stick));
     }
 
     fn check_with(
@@ -528,7 +572,7 @@ mod tests {
         ind: Indenter,
         x: [[f64; 2]; 2],
         depth: f64,
-        small: bool,
+        (small, area): (bool, SurfaceArea),
         damping: Option<Damping>,
         stick: Option<Stick>,
     ) {
@@ -539,6 +583,7 @@ mod tests {
             quadrature: gauss_legendre_unit(3),
             damping,
             stick,
+            area,
         };
         let x_ref = [[x[0][0] - 0.1, 0.0], [x[1][0] + 0.2, 0.0]];
         let o = c.segment(0, x, x_ref, depth, small);
@@ -642,6 +687,42 @@ mod tests {
     }
 
     #[test]
+    fn stretching_the_surface_at_a_fixed_gap_changes_only_the_current_area_energy() {
+        // a segment at the bottom of a wide sphere (gap z₀ to within r²/2R = 2e-5 nm), its
+        // outer node pulled out along the surface: the atoms of the reference segment stay the
+        // same, so the reference-area energy stays; the current-area one grows with the area
+        let lj = LennardJones::new(LjKind::Lj93, 0.2, 0.5);
+        let ind = Indenter::Sphere { radius: 1e6 };
+        let x_ref = [[3.0, 0.0], [4.0, 0.0]];
+        let depth = -0.5;
+        let energy = |x: [[f64; 2]; 2], area| {
+            let c = Contact {
+                segments: vec![],
+                indenter: ind,
+                law: &lj,
+                quadrature: gauss_legendre_unit(3),
+                damping: None,
+                stick: None,
+                area,
+            };
+            c.segment(0, x, x_ref, depth, false).energy
+        };
+        let stretched = [[3.0, 0.0], [5.0, 0.0]];
+        let (e0, e1) = (
+            energy(x_ref, SurfaceArea::Reference),
+            energy(stretched, SurfaceArea::Reference),
+        );
+        assert!(e0 < 0.0 && ((e1 - e0) / e0).abs() < 1e-6, "{e0} {e1}");
+        let (c0, c1) = (
+            energy(x_ref, SurfaceArea::Current),
+            energy(stretched, SurfaceArea::Current),
+        );
+        // areas π(r₂² − r₁²): 7π against 16π
+        assert!((c0 - e0).abs() < 1e-12 * e0.abs());
+        assert!((c1 / c0 - 16.0 / 7.0).abs() < 1e-5, "{}", c1 / c0);
+    }
+
+    #[test]
     fn contact_radius_interpolates_the_gap_at_the_edge() {
         let law = SmoothPenalty {
             stiffness: 1.0,
@@ -654,6 +735,7 @@ mod tests {
             quadrature: gauss_legendre_unit(2),
             damping: None,
             stick: None,
+            area: SurfaceArea::Current,
         };
         let pts = |g: [f64; 3]| -> Vec<ProfilePoint> {
             (0..3)

@@ -14,7 +14,7 @@
 
 use super::arclength::Curve;
 use super::assembly::{Assembler, Evaluation, Solid};
-use super::contact::{Anchor, Contact, Damping, ProfilePoint, Stick, SurfaceLaw};
+use super::contact::{Anchor, Contact, Damping, ProfilePoint, Stick, SurfaceArea, SurfaceLaw};
 use super::element::Kinematics;
 use super::indent::{
     band_span, build_mesh, new_solid, resolve, snapshot, Adaptation, IndentParams, IndentResult,
@@ -156,6 +156,9 @@ impl<'a> March<'a> {
             quadrature: gauss_legendre_unit(p.contact.quadrature_points),
             damping: None,
             stick: None,
+            // the law's atoms conserved with adhesion, a pressure on the current surface for
+            // the penalty (see contact.rs)
+            area: p.adhesion.as_ref().map_or(SurfaceArea::Current, |a| a.area),
         };
         let mut asm = Assembler::new(&solid, Some(&contact))?;
         let a = resolved.expected_contact_radius_nm;

@@ -98,6 +98,7 @@ fn adhesion(s: &Scene) -> Result<Option<AdhesionParams>, StageError> {
             gap: d.gap.0,
             eta: d.eta.0,
         }),
+        area: a.area,
     }))
 }
 

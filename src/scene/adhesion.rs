@@ -5,6 +5,7 @@
 use super::check::Checker;
 use super::quantity::{Length, Number, Temperature};
 use super::quantity::{Quantity, SurfaceEnergy};
+use crate::continuum::contact::SurfaceArea;
 use crate::laws::{LawError, LjKind, SurfaceLaw, ThermallyShifted};
 use crate::theory::TheoryError;
 use crate::units::Dimension;
@@ -131,6 +132,12 @@ pub struct Adhesion {
     /// Contact damping; absent means none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<ContactDamping>,
+    /// The area the law's energy per area is integrated over under finite deformation:
+    /// `"reference"` (default: the surface's atoms — the tube ends — are conserved) or
+    /// `"current"` (the stretched surface; mesh-dependent under strong adhesion on a compliant
+    /// solid, kept for comparison). Small strain always uses the reference surface.
+    #[serde(default)]
+    pub area: SurfaceArea,
 }
 
 fn default_law() -> LjKind {
