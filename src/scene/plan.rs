@@ -25,6 +25,7 @@ use super::schedule::ScheduleTotals;
 use super::solver::{Kinematics, Solver};
 pub use super::stage::Stage;
 use super::Scene;
+use crate::continuum::contact::SurfaceArea;
 use crate::theory::process_zone::process_zone;
 use crate::theory::{hertz, jkr, tabor, Sphere};
 use serde::Serialize;
@@ -736,7 +737,17 @@ fn machine_switches(scene: &Scene, d: &Derived, push: &mut Push) {
         if small {
             "small strain (solver.kinematics = \"small\")".into()
         } else {
-            "finite deformation, total Lagrangian".into()
+            match &scene.adhesion {
+                Some(a) => format!(
+                    "finite deformation, total Lagrangian; the LJ law on the {} surface \
+                     (adhesion.area)",
+                    match a.area {
+                        SurfaceArea::Reference => "reference",
+                        SurfaceArea::Current => "current",
+                    }
+                ),
+                None => "finite deformation, total Lagrangian".into(),
+            }
         },
     );
 }
