@@ -1,7 +1,7 @@
 //! FE pull-off of the Tabor-sphere problem against the half-space solver (issue 5).
 //! `cargo run --example continuum_pulloff -- <mu> [R/z0] [small|finite] [lj93|lj104]`
 //! Env `EPR` (elements per contact radius), `ZONE` (overrides the smallest element, nm),
-//! `INC` (increments per segment), `C0` (damping coefficient, GPa·s/nm), `CSV` (write the rows to this folder),
+//! `INC` (increments per segment), `C0` (damping coefficient, GPa·s/nm; 0: none, the jumps snap), `CSV` (write the rows to this folder),
 //! `CLEAR` (start and end this many z₀ clear of the surface instead of 6: the jumps of μ ≥ 5
 //! happen farther out), `VERBOSE` (print every increment), `ADAPTIVE` (0: one mesh fine over the whole contact, 1: a fine band that follows the edge;
 //! unset: the default, adaptive with adhesion), `BAND` (the band's half-width in process zones).
@@ -34,8 +34,13 @@ fn main() {
         p.mesh.smallest = Some(h);
     }
     if let Some(c0) = env("C0") {
-        if let Some(d) = p.adhesion.as_mut().and_then(|a| a.damping.as_mut()) {
-            d.c0 = c0;
+        if let Some(a) = p.adhesion.as_mut() {
+            match a.damping.as_mut() {
+                // C0=0: no damping, the jumps snap (src/continuum/snap.rs)
+                Some(_) if c0 == 0.0 => a.damping = None,
+                Some(d) => d.c0 = c0,
+                None => {}
+            }
         }
     }
     if let Some(a) = env("ADAPTIVE") {
@@ -129,5 +134,18 @@ fn main() {
                 j.after.load_nN / scale
             );
         }
+    }
+    for snap in &r.snaps {
+        println!(
+            "  snap (segment {}) at drive {:.4} nm: δ {:.4} → {:.4} nm, P/(πγR) {:.4} → {:.4}, released {:.4e} aJ in {} iterations",
+            snap.segment,
+            snap.drive_nm,
+            snap.depth_before_nm,
+            snap.depth_after_nm,
+            snap.load_before_nN / scale,
+            snap.load_after_nN / scale,
+            snap.energy_released_aJ,
+            snap.iterations
+        );
     }
 }

@@ -220,6 +220,8 @@ impl Evaluation {
 pub struct Assembler {
     system: SparseSystem,
     fixed_dofs: Vec<usize>,
+    /// (index in the values, dof) of every diagonal entry: the shifted factorisation
+    diagonal: Vec<(usize, usize)>,
     /// the work done so far
     pub stats: AssemblyStats,
 }
@@ -248,9 +250,14 @@ impl Assembler {
         }
         let fixed_dofs: Vec<usize> = (0..solid.dofs()).filter(|&d| solid.fixed[d]).collect();
         pos.extend(fixed_dofs.iter().map(|&d| (d, d)));
+        let diagonal = (pos.iter().enumerate())
+            .filter(|(_, (p, q))| p == q)
+            .map(|(k, &(d, _))| (k, d))
+            .collect();
         Ok(Assembler {
             system: SparseSystem::new(solid.dofs(), &pos)?,
             fixed_dofs,
+            diagonal,
             stats: AssemblyStats::default(),
         })
     }
@@ -372,6 +379,30 @@ impl Assembler {
         self.stats.factorisations += 1;
         self.stats.solve_s += t0.elapsed().as_secs_f64();
         Ok(out?)
+    }
+
+    /// Factorise K + σ·diag|K| by Cholesky (Levenberg–Marquardt's scaled shift, so the graded
+    /// mesh's small and large elements are shifted alike): `Ok(false)` where it is not positive
+    /// definite. The factorisation is kept for [`Assembler::back_solve`].
+    pub fn factor_shifted(&mut self, values: &[f64], shift: f64) -> Result<bool, FeError> {
+        let t0 = Instant::now();
+        let mut kdd = vec![0.0; self.system.dim()];
+        for &(k, d) in &self.diagonal {
+            kdd[d] += values[k];
+        }
+        let mut shifted = values.to_vec();
+        for &(k, d) in &self.diagonal {
+            // the whole σ|K_dd| on the first entry of each dof's diagonal
+            shifted[k] += shift * std::mem::take(&mut kdd[d]).abs();
+        }
+        let out = self.system.factor_spd(&shifted);
+        self.stats.factorisations += 1;
+        self.stats.solve_s += t0.elapsed().as_secs_f64();
+        match out {
+            Ok(()) => Ok(true),
+            Err(SparseError::NotPositiveDefinite) => Ok(false),
+            Err(e) => Err(e.into()),
+        }
     }
 
     /// True if the factorisation held is a Cholesky: the stiffness it factorised is positive

@@ -270,6 +270,11 @@ pub struct SolverParams {
     /// of it; an increment that fails there stops the run (or, retracting under load control,
     /// separates the indenter)
     pub max_cutbacks: usize,
+    /// an increment that fails at its smallest size snaps: the drive (or, loading under load
+    /// control, the load) is held and the state descends to the next local minimum
+    /// ([`super::snap`]); not where the material has lost ellipticity, nor on a retraction
+    /// under load control (there the failure is the pull-off); false: the run stops there
+    pub snap: bool,
     /// growth factor of the increment after a quick convergence
     pub growth: f64,
     /// Newton iterations counted as quick (the increment then grows back towards the
@@ -287,6 +292,7 @@ impl Default for SolverParams {
             newton: NewtonParams::default(),
             increments: 20,
             max_cutbacks: 12,
+            snap: true,
             growth: 1.5,
             quick_iterations: 8,
         }
@@ -749,6 +755,8 @@ pub struct IndentResult {
     pub adaptation: Vec<Adaptation>,
     /// arc-length: the folds and bifurcations the traced curve passed
     pub critical_points: Vec<CriticalPoint>,
+    /// Newton: the snaps through instabilities at a fixed drive ([`super::snap`])
+    pub snaps: Vec<super::snap::Snap>,
     /// one row per converged increment (and the initial state)
     pub rows: Vec<Row>,
     /// deformed states at the end of each segment

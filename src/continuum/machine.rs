@@ -273,30 +273,69 @@ impl NewtonSystem for Driven<'_> {
     }
 
     fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, FeError> {
+        let (m, k_dd) = (self.k_uu_len(values), values[values.len() - 1]);
+        self.asm.factor(&values[..m])?;
+        let (x, schur) = self.back_substitute(values, rhs, k_dd)?;
+        let g = &values[m..values.len() - 1];
+        let scale = k_dd.abs().max(dot(g, g).sqrt());
+        // a vanishing Schur complement is a limit point of the load (or no contact yet
+        // under load control): no increment of δ balances the residual
+        match schur {
+            Some(schur) if !(schur.abs() > 1e-12 * scale) || !schur.is_finite() => {
+                Err(FeError::LimitPoint { schur })
+            }
+            _ => Ok(x),
+        }
+    }
+
+    fn solve_shifted(
+        &mut self,
+        values: &[f64],
+        shift: f64,
+        rhs: &[f64],
+    ) -> Result<Option<Vec<f64>>, FeError> {
+        let (m, k_dd) = (self.k_uu_len(values), values[values.len() - 1]);
+        if !self.asm.factor_shifted(&values[..m], shift)? {
+            return Ok(None);
+        }
+        // the whole matrix is positive definite iff K_uu + σ diag and the Schur complement are
+        let (x, schur) = self.back_substitute(values, rhs, k_dd * (1.0 + shift))?;
+        Ok(schur.is_none_or(|s| s > 0.0).then_some(x))
+    }
+}
+
+impl Driven<'_> {
+    /// The length of K_uu's values in the tangent `values` (K_uu, ∂²Π/∂u∂δ, the depth's row).
+    fn k_uu_len(&self, values: &[f64]) -> usize {
+        values.len() - self.solid.dofs() - 1
+    }
+
+    /// With K_uu factorised: the solution for `rhs` by bordering, the depth's diagonal taking
+    /// `k_dd`, and the Schur complement k_dd − gᵀK_uu⁻¹g (none under displacement control,
+    /// where δ is given).
+    fn back_substitute(
+        &mut self,
+        values: &[f64],
+        rhs: &[f64],
+        k_dd: f64,
+    ) -> Result<(Vec<f64>, Option<f64>), FeError> {
         let n = self.solid.dofs();
-        let m = values.len() - n - 1;
-        let (k_uu, border, k_dd) = (&values[..m], &values[m..m + n], values[m + n]);
-        self.asm.factor(k_uu)?;
+        let m = self.k_uu_len(values);
+        let border = &values[m..m + n];
         let mut a = self.asm.back_solve(&rhs[..n])?;
         if let Drive::Depth(_) = self.drive {
             a.push(0.0);
-            return Ok(a);
+            return Ok((a, None));
         }
         // the second solve reuses the factorisation of K_uu
         let b = self.asm.back_solve(border)?;
         let schur = k_dd - dot(border, &b);
-        let scale = k_dd.abs().max(dot(border, border).sqrt());
-        // a vanishing Schur complement is a limit point of the load (or no contact yet
-        // under load control): no increment of δ balances the residual
-        if !(schur.abs() > 1e-12 * scale) || !schur.is_finite() {
-            return Err(FeError::LimitPoint { schur });
-        }
         let d_delta = (rhs[n] - dot(border, &a)) / schur;
         for (ai, bi) in a.iter_mut().zip(&b) {
             *ai -= bi * d_delta;
         }
         a.push(d_delta);
-        Ok(a)
+        Ok((a, Some(schur)))
     }
 }
 

@@ -24,11 +24,17 @@ use super::indent::{
 use super::indenter::IndenterError;
 use super::machine::{Drive, Driven, Machine};
 use super::mesh::{self, EdgeZone, Mesh};
-use super::newton;
+use super::newton::{self, NewtonParams, NewtonSystem};
+use super::snap::Snap;
 use super::transfer;
 use super::FeError;
 use crate::numerics::quadrature::gauss_legendre_unit;
 use std::time::Instant;
+
+/// Newton iterations a snap's descent may take: it walks from the last equilibrium, through
+/// the unstable region, to the next minimum (tens to hundreds of iterations), where an
+/// increment's Newton takes a few.
+const SNAP_ITERATIONS: usize = 1000;
 
 /// Run the indentation. A failure midway returns [`FeError::Stopped`] with what was finished;
 /// so does an interrupt ([`crate::interrupt::requested`], polled after every converged
@@ -120,6 +126,8 @@ enum Increment {
         x: Vec<f64>,
         iterations: usize,
         ev: Evaluation,
+        /// a snap: the energy it released, aJ
+        released: Option<f64>,
     },
     /// converged, with the contact edge outside the band: to be solved again on the pending
     /// mesh
@@ -200,6 +208,7 @@ impl<'a> March<'a> {
                 })
                 .collect(),
             critical_points: Vec::new(),
+            snaps: Vec::new(),
             mesh,
             rows: vec![Row {
                 time_s: 0.0,
@@ -332,6 +341,8 @@ impl<'a> March<'a> {
         let mut value = v0;
         let (mut done, mut step, mut cutbacks) = (0.0f64, base, 0usize);
         let mut remeshes = 0usize;
+        // the increment that failed at its smallest size is solved again by a snap
+        let mut snapping = false;
         while done < 1.0 - 1e-12 {
             if let Some(z) = self.pending.take() {
                 self.remesh(z)?;
@@ -344,20 +355,49 @@ impl<'a> March<'a> {
                 dt: duration * s,
                 by_load,
             };
-            match self.increment(&inc, remeshes < MAX_REMESHES_PER_INCREMENT)? {
+            match self.increment(&inc, remeshes < MAX_REMESHES_PER_INCREMENT, snapping)? {
                 Increment::Remesh => remeshes += 1,
-                Increment::Converged { x, iterations, ev } => {
+                Increment::Converged {
+                    x,
+                    iterations,
+                    ev,
+                    released,
+                } => {
                     value = new_value;
                     done += s;
                     self.time = t0 + duration * done;
+                    let before = self.result.rows.last().copied();
                     self.commit(si, &inc, x, iterations, &ev, progress)?;
                     remeshes = 0;
+                    if let (Some(released), Some(b), Some(a)) =
+                        (released, before, self.result.rows.last())
+                    {
+                        self.result.snaps.push(Snap {
+                            segment: si,
+                            time_s: self.time,
+                            drive_nm: a.drive_nm,
+                            depth_before_nm: b.depth_nm,
+                            depth_after_nm: a.depth_nm,
+                            load_before_nN: b.load_nN,
+                            load_after_nN: a.load_nN,
+                            energy_released_aJ: released,
+                            iterations,
+                        });
+                        // the snap's change is no trend to extrapolate
+                        self.last_dv = 0.0;
+                        snapping = false;
+                    }
                     if crate::interrupt::requested() {
                         return Ok(SegmentEnd::Stopped(crate::interrupt::REASON.into()));
                     }
                     if iterations <= p.solver.quick_iterations {
                         step = (step * p.solver.growth).min(base);
                     }
+                }
+                Increment::Failed(e) if snapping => {
+                    return Ok(SegmentEnd::Stopped(format!(
+                        "segment {si} ({seg:?}): the increment to {new_value:.6} nm failed at the smallest size, and the snap there (a descent at the held drive, src/continuum/snap.rs) found no minimum: {e}"
+                    )));
                 }
                 Increment::Failed(e) => {
                     cutbacks += 1;
@@ -378,7 +418,15 @@ impl<'a> March<'a> {
                         self.result.separated_nN = self.result.rows.last().map(|r| r.load_nN);
                         return Ok(SegmentEnd::Separated);
                     }
-                    if exhausted {
+                    // a material that lost ellipticity localises in a band as thin as the
+                    // mesh allows: no snap has a mesh-independent end there, the run stops
+                    // and names the element
+                    if exhausted && p.solver.snap && self.localisation_note().is_empty() {
+                        // hold the drive (or the load) of the increment that failed and
+                        // descend from the last equilibrium to the next minimum
+                        snapping = true;
+                        step = s;
+                    } else if exhausted {
                         return Ok(SegmentEnd::Stopped(format!(
                             "segment {si} ({seg:?}): increment to {new_value:.6} {} at t = {:.6} s failed at the smallest increment (1/2^{} of the base; {cutbacks} halvings in this segment): {e}",
                             if by_load { "nN" } else { "nm" },
@@ -395,12 +443,18 @@ impl<'a> March<'a> {
     /// Solve one increment from the predictor. With an adaptive mesh (and `may_remesh`), a
     /// converged state whose contact edge left the band is not taken: the band that spans it
     /// and the last converged one is made pending.
-    fn increment(&mut self, inc: &Step, may_remesh: bool) -> Result<Increment, FeError> {
+    fn increment(
+        &mut self,
+        inc: &Step,
+        may_remesh: bool,
+        snap: bool,
+    ) -> Result<Increment, FeError> {
         let p = self.p;
         let ndof = self.solid.dofs();
-        // predictor: extrapolate the last increment's change of (u, δ)
+        // predictor: extrapolate the last increment's change of (u, δ); a snap descends from
+        // the last equilibrium
         let mut x = self.u.clone();
-        if self.last_dv != 0.0 && inc.dv * self.last_dv > 0.0 {
+        if !snap && self.last_dv != 0.0 && inc.dv * self.last_dv > 0.0 {
             let ratio = inc.dv / self.last_dv;
             for ((xi, ui), pi) in x.iter_mut().zip(&self.u).zip(&self.u_prev) {
                 *xi += ratio * (ui - pi);
@@ -436,10 +490,28 @@ impl<'a> March<'a> {
             drive: inc.mode,
             force_floor: self.force_floor,
         };
-        let solved = newton::solve(&mut sys, &mut x, &p.solver.newton)
+        let solved = if snap {
+            let start = match sys.evaluate(&x, false) {
+                Ok(pt) => pt.energy,
+                Err(e) => return Ok(Increment::Failed(newton::NewtonError::Problem(e).into())),
+            };
+            let params = NewtonParams {
+                max_iterations: SNAP_ITERATIONS,
+                ..p.solver.newton
+            };
+            newton::descend(&mut sys, &mut x, &params).and_then(|info| {
+                let end = sys
+                    .evaluate(&x, false)
+                    .map_err(newton::NewtonError::Problem)?;
+                Ok((info, Some(start - end.energy)))
+            })
+        } else {
+            newton::solve(&mut sys, &mut x, &p.solver.newton).map(|info| (info, None))
+        };
+        let solved = solved
             .map_err(StepFailure::from)
             .and_then(|info| Ok(p.indenter.check_depth(x[ndof]).map(|()| info)?));
-        let info = match solved {
+        let (info, released) = match solved {
             Ok(info) => info,
             Err(e) => return Ok(Increment::Failed(e)),
         };
@@ -461,6 +533,7 @@ impl<'a> March<'a> {
             x,
             iterations: info.iterations,
             ev,
+            released,
         })
     }
 

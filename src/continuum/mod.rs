@@ -45,6 +45,7 @@ pub mod material;
 pub mod mesh;
 pub mod newton;
 pub mod output;
+pub mod snap;
 pub mod transfer;
 
 pub use indent::{IndentParams, IndentResult, Progress, Segment};
@@ -96,4 +97,10 @@ pub enum FeError {
     /// Newton asked for the iterate's point before evaluating it (a bug)
     #[error("Newton: no point evaluated")]
     NoPoint,
+    /// the descent found no positive-definite shift of the stiffness
+    #[error("descent: K + σ·diag|K| is not positive definite up to σ = {shift:.1e}")]
+    NotDescending {
+        /// the largest shift tried
+        shift: f64,
+    },
 }

@@ -9,6 +9,14 @@
 //! Non-convergence is an error carrying the residual history; the caller cuts the increment
 //! back. The iteration is [`crate::numerics::newton::solve`]; this module holds the continuum's
 //! plug-ins to it.
+//!
+//! **Descent** ([`descend`], the snap of [`super::march`]): past a fold of the depth, K is
+//! indefinite and Newton's step heads for the saddle of the unstable branch as readily as for
+//! a minimum. The descent instead factors K + σ·diag|K| by Cholesky, with the smallest σ of the
+//! ladder 0, σ₀, 10σ₀, … that is positive definite (the last σ/10 tried first; Nocedal & Wright,
+//! Alg. 3.3, with the scaled shift of Levenberg–Marquardt), so every step is a descent
+//! direction; it accepts a trial on Armijo's decrease of Π alone and stops only at a point where
+//! the residual is at tolerance *and* the unshifted K factors: a strict local minimum.
 
 use super::FeError;
 use crate::numerics::newton::{self as driver, armijo, norm, NewtonProblem, Trial};
@@ -37,7 +45,21 @@ pub trait NewtonSystem {
     fn evaluate(&mut self, x: &[f64], tangent: bool) -> Result<Point, FeError>;
     /// Solve K d = rhs with K given by `values`.
     fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, FeError>;
+    /// Solve (K + σ·diag|K|) d = rhs by Cholesky; `None` where that matrix is not positive
+    /// definite.
+    fn solve_shifted(
+        &mut self,
+        values: &[f64],
+        shift: f64,
+        rhs: &[f64],
+    ) -> Result<Option<Vec<f64>>, FeError>;
 }
+
+/// The shift ladder of the descent: the first nonzero σ, its growth, and how many
+/// factorisations one direction may try.
+const SHIFT_START: f64 = 1e-8;
+const SHIFT_GROWTH: f64 = 10.0;
+const MAX_SHIFTS: usize = 30;
 
 /// The continuum's plug-ins to the Newton loop: the L2 norm of ∇Π against the reference force,
 /// the problem's own linear solve, and a trial accepted on Armijo's decrease of Π (with a
@@ -49,6 +71,8 @@ struct Potential<'a> {
     /// the iterate's point (with its tangent)
     point: Option<Point>,
     trial: Vec<f64>,
+    /// descent (see the module doc): the shift of the last direction
+    descent: Option<f64>,
 }
 
 impl Potential<'_> {
@@ -68,15 +92,37 @@ impl NewtonProblem for Potential<'_> {
     }
 
     fn converged(&self, residuals: &[f64]) -> bool {
-        self.point
-            .as_ref()
-            .is_some_and(|pt| self.params.converged(residuals, pt.reference))
+        // a descent stops at a minimum: its last direction needed no shift
+        self.descent.is_none_or(|shift| shift == 0.0)
+            && self
+                .point
+                .as_ref()
+                .is_some_and(|pt| self.params.converged(residuals, pt.reference))
     }
 
     fn direction(&mut self, _x: &[f64]) -> Result<Vec<f64>, FeError> {
         let pt = self.point.as_ref().ok_or(FeError::NoPoint)?;
         let rhs: Vec<f64> = pt.residual.iter().map(|r| -r).collect();
-        self.sys.solve(&pt.values, &rhs)
+        let Some(last) = self.descent else {
+            return self.sys.solve(&pt.values, &rhs);
+        };
+        let mut shift = if last / SHIFT_GROWTH < SHIFT_START {
+            0.0
+        } else {
+            last / SHIFT_GROWTH
+        };
+        for _ in 0..MAX_SHIFTS {
+            if let Some(d) = self.sys.solve_shifted(&pt.values, shift, &rhs)? {
+                self.descent = Some(shift);
+                return Ok(d);
+            }
+            shift = if shift == 0.0 {
+                SHIFT_START.max(last / SHIFT_GROWTH)
+            } else {
+                shift * SHIFT_GROWTH
+            };
+        }
+        Err(FeError::NotDescending { shift })
     }
 
     fn try_step(&mut self, x: &mut [f64], dx: &[f64], s: f64) -> Result<Trial, FeError> {
@@ -98,7 +144,7 @@ impl NewtonProblem for Potential<'_> {
             s,
             slope,
             allowance,
-        ) || norm(&next.residual) < rn
+        ) || (self.descent.is_none() && norm(&next.residual) < rn)
         {
             x.copy_from_slice(&self.trial);
             self.point = Some(next);
@@ -119,11 +165,31 @@ pub fn solve(
     x: &mut [f64],
     params: &NewtonParams,
 ) -> Result<NewtonInfo, NewtonError> {
+    iterate(sys, x, params, None)
+}
+
+/// Descend from `x` (overwritten) to a strict local minimum of Π (see the module doc).
+pub fn descend(
+    sys: &mut dyn NewtonSystem,
+    x: &mut [f64],
+    params: &NewtonParams,
+) -> Result<NewtonInfo, NewtonError> {
+    iterate(sys, x, params, Some(0.0))
+}
+
+/// The Newton loop with the plug-ins of [`Potential`].
+fn iterate(
+    sys: &mut dyn NewtonSystem,
+    x: &mut [f64],
+    params: &NewtonParams,
+    descent: Option<f64>,
+) -> Result<NewtonInfo, NewtonError> {
     let mut problem = Potential {
         sys,
         params,
         point: None,
         trial: x.to_vec(),
+        descent,
     };
     driver::solve(&mut problem, x, params)
 }
@@ -132,37 +198,77 @@ pub fn solve(
 mod tests {
     use super::*;
 
-    /// Π = Σ (x_i⁴/4 + x_i²/2 − b_i x_i): a convex problem with a dense enough nonlinearity.
+    /// Π = Σ (x_i⁴/4 + c x_i²/2 − b_i x_i): convex for c = 1 (a dense enough nonlinearity), a
+    /// double well per coordinate for c = −1 (a maximum near 0).
     struct Quartic {
         b: Vec<f64>,
+        c: f64,
     }
 
     impl NewtonSystem for Quartic {
         fn evaluate(&mut self, x: &[f64], _tangent: bool) -> Result<Point, FeError> {
+            let (b, c) = (&self.b, self.c);
             Ok(Point {
-                energy: x
-                    .iter()
-                    .zip(&self.b)
-                    .map(|(x, b)| x.powi(4) / 4.0 + x * x / 2.0 - b * x)
+                energy: (x.iter().zip(b))
+                    .map(|(x, b)| x.powi(4) / 4.0 + c * x * x / 2.0 - b * x)
                     .sum(),
                 residual: x
                     .iter()
-                    .zip(&self.b)
-                    .map(|(x, b)| x.powi(3) + x - b)
+                    .zip(b)
+                    .map(|(x, b)| x.powi(3) + c * x - b)
                     .collect(),
-                reference: norm(&self.b),
-                values: x.iter().map(|x| 3.0 * x * x + 1.0).collect(),
+                reference: norm(b),
+                values: x.iter().map(|x| 3.0 * x * x + c).collect(),
             })
         }
         fn solve(&mut self, values: &[f64], rhs: &[f64]) -> Result<Vec<f64>, FeError> {
             Ok(rhs.iter().zip(values).map(|(r, k)| r / k).collect())
         }
+        fn solve_shifted(
+            &mut self,
+            values: &[f64],
+            shift: f64,
+            rhs: &[f64],
+        ) -> Result<Option<Vec<f64>>, FeError> {
+            let k: Vec<f64> = values.iter().map(|k| k + shift * k.abs()).collect();
+            k.iter()
+                .all(|&k| k > 0.0)
+                .then(|| self.solve(&k, rhs))
+                .transpose()
+        }
+    }
+
+    #[test]
+    fn descent_reaches_a_minimum_where_newton_finds_the_maximum() {
+        let b = vec![0.01, -0.02];
+        let start = vec![0.05, 0.1];
+        let well = || Quartic {
+            b: b.clone(),
+            c: -1.0,
+        };
+        let mut x = start.clone();
+        solve(&mut well(), &mut x, &NewtonParams::default()).unwrap();
+        // Newton: the stationary point nearest the start, the maximum x ≈ −b (x³ − x = b)
+        for (x, b) in x.iter().zip(&b) {
+            assert!((x + b).abs() < 1e-3 && 3.0 * x * x - 1.0 < 0.0, "{x}");
+        }
+        let mut x = start;
+        let info = descend(&mut well(), &mut x, &NewtonParams::default()).unwrap();
+        for (x, b) in x.iter().zip(&b) {
+            // a root of x³ − x − b with Π'' = 3x² − 1 > 0: a minimum
+            assert!(
+                (x.powi(3) - x - b).abs() < 1e-9 && 3.0 * x * x - 1.0 > 0.0,
+                "{x}"
+            );
+        }
+        assert!(info.iterations > 1);
     }
 
     #[test]
     fn converges_quadratically_from_far_away() {
         let mut p = Quartic {
             b: vec![1000.0, -3.0, 0.5],
+            c: 1.0,
         };
         let mut x = vec![0.0; 3];
         let info = solve(&mut p, &mut x, &NewtonParams::default()).unwrap();

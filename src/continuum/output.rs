@@ -58,6 +58,10 @@ pub struct Summary<'a> {
     /// alignment and where it moves most)
     #[serde(skip_serializing_if = "<[_]>::is_empty")]
     pub critical_points: &'a [super::bifurcation::CriticalPoint],
+    /// Newton: the snaps through instabilities at a fixed drive (segment, time, drive, depth
+    /// and load before and after, the energy released, the descent's iterations)
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub snaps: &'a [super::snap::Snap],
 }
 
 /// What [`IndentResult::write`] wrote besides the CSV, the summary and the VTU files.
@@ -100,6 +104,7 @@ impl IndentResult {
             params: &self.params,
             adaptation: &self.adaptation,
             critical_points: &self.critical_points,
+            snaps: &self.snaps,
         }
     }
 

@@ -280,6 +280,7 @@ fn solver(s: &Scene) -> (SolverParams, crate::continuum::element::Kinematics) {
         };
         solver.increments = sv.increments;
         solver.max_cutbacks = sv.max_cutbacks;
+        solver.snap = sv.snap;
         solver.newton.max_iterations = sv.max_iterations;
         solver.newton.rtol = sv.tolerance.0;
     }
@@ -543,6 +544,13 @@ pub(super) fn run(scene: &ResolvedScene, ctx: &StageContext) -> Result<StageOutp
             "max_strain_energy_aJ".to_string(),
             summary.max_strain_energy_aJ,
         );
+        if !summary.snaps.is_empty() {
+            values.insert("snaps".to_string(), summary.snaps.len() as f64);
+            values.insert(
+                "snap_energy_released_aJ".to_string(),
+                summary.snaps.iter().map(|s| s.energy_released_aJ).sum(),
+            );
+        }
     }
     Ok(StageOutput {
         values,

@@ -53,6 +53,12 @@ pub struct Solver {
     /// fewer were needed, shrinks when more), ≥ 1. Default 5.
     #[serde(default = "default_target_iterations")]
     pub target_iterations: usize,
+    /// With `"newton"`: an increment failing at its smallest size snaps (the drive, or the
+    /// load, held and the state descended to the next minimum, `turf::continuum::snap`)
+    /// instead of stopping the run; not where the material lost ellipticity, nor retracting
+    /// under load control (the pull-off). Default true.
+    #[serde(default = "default_snap")]
+    pub snap: bool,
 }
 
 fn default_method() -> Method {
@@ -76,6 +82,9 @@ fn default_cutbacks() -> usize {
 fn default_target_iterations() -> usize {
     5
 }
+fn default_snap() -> bool {
+    true
+}
 
 impl Default for Solver {
     fn default() -> Self {
@@ -87,6 +96,7 @@ impl Default for Solver {
             increments: default_increments(),
             max_cutbacks: default_cutbacks(),
             target_iterations: default_target_iterations(),
+            snap: default_snap(),
         }
     }
 }
