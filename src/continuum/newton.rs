@@ -15,8 +15,9 @@
 //! a minimum. The descent instead factors K + σ·diag|K| by Cholesky, with the smallest σ of the
 //! ladder 0, σ₀, 10σ₀, … that is positive definite (the last σ/10 tried first; Nocedal & Wright,
 //! Alg. 3.3, with the scaled shift of Levenberg–Marquardt), so every step is a descent
-//! direction; it accepts a trial on Armijo's decrease of Π alone and stops only at a point where
-//! the residual is at tolerance *and* the unshifted K factors: a strict local minimum.
+//! direction; it accepts a trial on Armijo's decrease of Π (or, once Π's changes sink into
+//! round-off, on a lower residual with Π not higher) and stops only at a point where the
+//! residual is at tolerance *and* the unshifted K factors: a strict local minimum.
 
 use super::FeError;
 use crate::numerics::newton::{self as driver, armijo, norm, NewtonProblem, Trial};
@@ -144,7 +145,10 @@ impl NewtonProblem for Potential<'_> {
             s,
             slope,
             allowance,
-        ) || (self.descent.is_none() && norm(&next.residual) < rn)
+        ) || (norm(&next.residual) < rn
+            // a descent takes a lower residual only where Π did not rise beyond round-off
+            // (near a minimum its changes sink below it)
+            && (self.descent.is_none() || next.energy <= pt.energy + allowance))
         {
             x.copy_from_slice(&self.trial);
             self.point = Some(next);
