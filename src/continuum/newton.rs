@@ -74,6 +74,8 @@ struct Potential<'a> {
     trial: Vec<f64>,
     /// descent (see the module doc): the shift of the last direction
     descent: Option<f64>,
+    /// a descent at a minimum whose residual sank into round-off (see `exhausted`)
+    stalled: bool,
 }
 
 impl Potential<'_> {
@@ -94,11 +96,24 @@ impl NewtonProblem for Potential<'_> {
 
     fn converged(&self, residuals: &[f64]) -> bool {
         // a descent stops at a minimum: its last direction needed no shift
-        self.descent.is_none_or(|shift| shift == 0.0)
-            && self
-                .point
-                .as_ref()
-                .is_some_and(|pt| self.params.converged(residuals, pt.reference))
+        self.stalled
+            || self.descent.is_none_or(|shift| shift == 0.0)
+                && self
+                    .point
+                    .as_ref()
+                    .is_some_and(|pt| self.params.converged(residuals, pt.reference))
+    }
+
+    /// A descent whose unshifted Newton step (K positive definite) finds neither a lower Π
+    /// nor a lower residual, with the residual below `stagnation` of the forces in play, sits
+    /// at a minimum to round-off: converged.
+    fn exhausted(&mut self, _x: &mut [f64]) -> bool {
+        let floor = self
+            .point
+            .as_ref()
+            .is_some_and(|pt| norm(&pt.residual) <= self.params.stagnation * pt.reference);
+        self.stalled = self.descent == Some(0.0) && floor;
+        self.stalled
     }
 
     fn direction(&mut self, _x: &[f64]) -> Result<Vec<f64>, FeError> {
@@ -194,6 +209,7 @@ fn iterate(
         point: None,
         trial: x.to_vec(),
         descent,
+        stalled: false,
     };
     driver::solve(&mut problem, x, params)
 }
