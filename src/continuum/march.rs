@@ -396,7 +396,8 @@ impl<'a> March<'a> {
                 }
                 Increment::Failed(e) if snapping => {
                     return Ok(SegmentEnd::Stopped(format!(
-                        "segment {si} ({seg:?}): the increment to {new_value:.6} nm failed at the smallest size, and the snap there (a descent at the held drive, src/continuum/snap.rs) found no minimum: {e}"
+                        "segment {si} ({seg:?}): the increment to {new_value:.6} {} failed at the smallest size, and the snap there (a descent at the held drive, src/continuum/snap.rs) found no minimum: {e}",
+                        if by_load { "nN" } else { "nm" }
                     )));
                 }
                 Increment::Failed(e) => {

@@ -1,20 +1,22 @@
 //! Snap-through at a fixed drive (issue 17, item 2): the jump to contact, and any other
-//! instability of an adhesive contact under displacement or spring control, without contact
-//! damping.
+//! instability of an adhesive contact, without contact damping.
 //!
-//! Past a fold of the depth (or of the load) the equilibrium the increments were following ends; the solid jumps
-//! (seed §4.3: the jump-in and jump-out of the S-curve). Newton from the last equilibrium then
-//! finds no solution however small the increment, and with contact damping the jump is carried
-//! by the damper's viscous force (seed eq. 4.4), which adds to the load wherever the gap
-//! changes. Instead, where an increment fails at its smallest size, the march holds the drive
-//! there and lets the state *descend* ([`super::newton::descend`]) from the last equilibrium to
-//! the next strict local minimum of the total potential Π (solid, law, machine spring, and for a
-//! rate-dependent solid its incremental potential over the increment's time step): the state a
-//! dynamic snap comes to rest in once its kinetic energy is dissipated, reached without
-//! modelling the dynamics. The energy the snap releases, Π before − Π after at the same drive,
-//! is what the jump dissipates (in a test, into vibration and heat); each snap is reported with
-//! it. Unlike the damper, the snap leaves the load on every branch the increments follow
-//! untouched.
+//! Past a fold of the depth (or of the load) the equilibrium the increments were following
+//! ends; the solid jumps (seed §4.3: the jump-in and jump-out of the S-curve). Newton from the
+//! last equilibrium then finds no solution however small the increment, and with contact damping
+//! the jump is carried by the damper's viscous force (seed eq. 4.4), which adds to the load
+//! wherever the gap changes. Instead, where an increment fails at its smallest size, the march
+//! ([`super::march`]) holds the drive (loading under load control: the load) there and lets the
+//! state *descend* ([`super::newton::descend`]) from the last equilibrium to the next strict
+//! local minimum of the total potential Π (solid, law, machine springs, and for a rate-dependent
+//! solid its incremental potential over the increment's time step): a state a dynamic snap can
+//! come to rest in once its kinetic energy is dissipated (a lightly damped one may overshoot to
+//! another), reached without modelling the dynamics. The energy the snap releases, Π before −
+//! Π after at the same drive, is what the jump dissipates (in a test, into vibration and heat);
+//! each snap is reported with it. Unlike the damper, the snap leaves the load on every branch
+//! the increments follow untouched. It is not tried where the material has lost ellipticity
+//! (no mesh-independent end state) nor on a load-controlled retraction (there the failure is
+//! the pull-off).
 
 use serde::Serialize;
 
@@ -26,7 +28,8 @@ pub struct Snap {
     pub segment: usize,
     /// time of the increment that snapped, s
     pub time_s: f64,
-    /// the drive held through the snap: δ, the machine's drive Δ, nm
+    /// the drive held through the snap, as the rows' drive column: δ or the machine's drive
+    /// Δ, nm (under load control, the load, nN)
     pub drive_nm: f64,
     /// the indenter's depth before and after, nm
     pub depth_before_nm: f64,
