@@ -17,7 +17,8 @@
 //! Alg. 3.3, with the scaled shift of Levenberg–Marquardt), so every step is a descent
 //! direction; it accepts a trial on Armijo's decrease of Π (or, once Π's changes sink into
 //! round-off, on a lower residual with Π not higher) and stops only at a point where the
-//! residual is at tolerance *and* the unshifted K factors: a strict local minimum.
+//! residual is at tolerance *and* its last step needed no shift (K positive definite at the
+//! last iterate, a step of round-off size away): a strict local minimum.
 
 use super::FeError;
 use crate::numerics::newton::{self as driver, armijo, norm, NewtonProblem, Trial};
