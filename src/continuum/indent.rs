@@ -13,7 +13,7 @@
 use super::adhesion::{self, AdhesionParams};
 use super::assembly::{AssemblyStats, Solid};
 use super::bifurcation::CriticalPoint;
-use super::contact::{Contact, ProfilePoint, SmoothPenalty};
+use super::contact::{Contact, ProfilePoint, SmoothPenalty, SurfaceLaw};
 use super::element::Kinematics;
 use super::indenter::Indenter;
 use super::machine::Machine;
@@ -21,7 +21,7 @@ use super::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use super::material::linear::LinearElastic;
 use super::material::viscoelastic::{validate_prony, PronyTerm, Viscoelastic};
 use super::material::{Elastic, Voigt};
-use super::mesh::{self, BlockSpec, EdgeZone, Mesh, MeshReport};
+use super::mesh::{self, BlockSpec, EdgeZone, Mesh, MeshReport, TAIL_TIERS};
 use super::newton::NewtonParams;
 use super::FeError;
 use serde::{Deserialize, Serialize};
@@ -116,21 +116,105 @@ pub const DEFAULT_EDGE_ZONE: f64 = 4.0;
 /// fraction of the band's half-width (so it stays ≥ 2ℓ inside the band with the default); a
 /// band wider than needed by more than twice this is narrowed.
 pub const EDGE_SAFE: f64 = 0.5;
-/// The band spans the contact edge (gap below the law's contact gap g_c) out to the outermost
-/// gap below this many g_c: as in the half-space solver, a coarse ring at a small gap is
-/// unstable on its own (its self-compliance times the law's stiffness exceeds 1) and snaps,
-/// pinning the edge and jumping with it; beyond 3g_c the 9-3 law's stiffness is below 1/80 of
-/// its peak.
-pub const BAND_GAPS: f64 = 3.0;
+/// The gaps that bound the band's tiers: where the smallest elements h₀ start, the gap of the
+/// law's largest tension (inside it the law is a stable, stiff spring on a smooth field), and
+/// where each tier ends: the smallest elements while the stiffness of the law's attractive tail
+/// can exceed half its largest k_t, the tier of 2^(k+1) h₀ while it can exceed k_t / 2^(k+2).
+/// As in the half-space solver, a coarse ring at a small gap is unstable on its own: a ring of
+/// surface elements of size h is stable while its compliance ~h/E* times the law's stiffness
+/// stays below 1, and h₀ = ℓ/10 with ℓ = E*γ/σ₀² ≈ E*/k_t, so each tier keeps the margin of
+/// the smallest elements where the law is at its stiffest (9-3: the band starts at 1.20 z₀, its
+/// smallest elements end at 1.85 z₀ and its tiers at 2.23, 2.67, 3.18, 3.78, 4.50, 5.35, 6.36
+/// and 7.56 z₀; beyond the last the law allows 512 h₀, more than the contact's surface
+/// elements at μ ≤ 10).
+fn tier_gaps(law: &dyn SurfaceLaw) -> (f64, [f64; TAIL_TIERS + 1]) {
+    // log-spaced gaps from g_c to 64 g_c (steps of 0.1 %): the tails of the plain and the
+    // thermally shifted laws fall below k_t / 2^(TAIL_TIERS + 1) well inside
+    const SAMPLES: usize = 4200;
+    let gc = law.contact_gap();
+    let gap = |i: usize| gc * 64f64.powf(i as f64 / SAMPLES as f64);
+    // the attractive tail: beyond the largest tension
+    let peak = (0..=SAMPLES)
+        .min_by(|&i, &j| law.eval(gap(i)).1.total_cmp(&law.eval(gap(j)).1))
+        .unwrap_or(0);
+    let stiffness: Vec<f64> = (peak..=SAMPLES).map(|i| law.eval(gap(i)).2.abs()).collect();
+    let largest = stiffness.iter().fold(0.0f64, |a, &k| a.max(k));
+    let mut gaps = [gap(peak); TAIL_TIERS + 1];
+    for (j, g) in gaps.iter_mut().enumerate() {
+        let bound = largest / 2f64.powi(j as i32 + 1);
+        // the first sample beyond which the stiffness stays below the bound
+        if let Some(i) = stiffness.iter().rposition(|&k| k > bound) {
+            *g = gap((peak + i + 1).min(SAMPLES));
+        }
+    }
+    (gap(peak), gaps)
+}
 
-/// The radii the band must cover on `profile`: from the contact edge to the outermost gap
-/// below [`BAND_GAPS`] contact gaps, nm.
-pub(super) fn band_span(contact: &Contact, profile: &[ProfilePoint]) -> (f64, f64) {
-    let gc = contact.law.contact_gap();
-    (
-        contact.radius_below(profile, gc),
-        contact.radius_below(profile, BAND_GAPS * gc),
-    )
+/// The radii a band must cover on a profile, nm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Span {
+    /// the edge of the process zone: the outermost gap below that of the law's largest tension
+    pub inner: f64,
+    /// the outermost radius that needs the smallest elements
+    pub outer: f64,
+    /// the outermost radius each coarser tier is needed to
+    pub tail: [f64; TAIL_TIERS],
+}
+
+impl Span {
+    /// Whether the band of `z` misses this span by more than `slack` anywhere.
+    pub fn leaves(&self, z: &EdgeZone, slack: f64) -> bool {
+        self.inner < z.inner - slack
+            || self.outer > z.outer + slack
+            || self.tail.iter().zip(&z.tail).any(|(t, b)| *t > b + slack)
+    }
+
+    /// Whether the band of `z` is wider than this span needs by more than `slack` at the edge,
+    /// at the end of the smallest elements or at the band's end.
+    pub fn narrower_than(&self, z: &EdgeZone, slack: f64) -> bool {
+        let end = |t: &[f64; TAIL_TIERS], o: f64| t.iter().fold(o, |a, &b| a.max(b));
+        self.inner > z.inner + slack
+            || self.outer < z.outer - slack
+            || end(&self.tail, self.outer) < z.reach() - slack
+    }
+
+    /// The span covering both.
+    pub fn union(&self, other: &Span) -> Span {
+        let mut tail = self.tail;
+        for (t, o) in tail.iter_mut().zip(&other.tail) {
+            *t = t.max(*o);
+        }
+        Span {
+            inner: self.inner.min(other.inner),
+            outer: self.outer.max(other.outer),
+            tail,
+        }
+    }
+
+    /// The band of `z` moved onto this span.
+    pub fn zone(&self, z: &EdgeZone) -> EdgeZone {
+        EdgeZone {
+            inner: self.inner,
+            outer: self.outer,
+            tail: self.tail,
+            ..*z
+        }
+    }
+}
+
+/// The radii the band must cover on `profile` ([`tier_gaps`]).
+pub(super) fn band_span(contact: &Contact, profile: &[ProfilePoint]) -> Span {
+    let (start, gaps) = tier_gaps(contact.law);
+    let radius = |g: f64| contact.radius_below(profile, g);
+    let mut tail = [0.0; TAIL_TIERS];
+    for (t, &g) in tail.iter_mut().zip(&gaps[1..]) {
+        *t = radius(g);
+    }
+    Span {
+        inner: radius(start),
+        outer: radius(gaps[0]),
+        tail,
+    }
 }
 /// Remeshes within one increment at most (a jump moves the edge several times as the mesh
 /// around it resolves the law; beyond this the increment is accepted on the last mesh).
@@ -652,12 +736,7 @@ fn edge_zone(m: &MeshParams, ell: f64, surface: f64) -> Result<EdgeZone, FeError
             m.edge_zone
         )));
     }
-    Ok(EdgeZone {
-        inner: 0.0,
-        outer: 0.0,
-        half_width: m.edge_zone * ell,
-        surface,
-    })
+    Ok(EdgeZone::plain(0.0, 0.0, m.edge_zone * ell, surface))
 }
 
 /// One converged increment.
@@ -718,6 +797,8 @@ pub struct Adaptation {
     pub inner_nm: f64,
     /// to this one, nm
     pub outer_nm: f64,
+    /// and its coarser tiers (2, 4, … 256 h₀) to these, nm
+    pub tail_nm: [f64; TAIL_TIERS],
     /// triangles of the mesh
     pub elements: usize,
 }
@@ -845,4 +926,31 @@ pub(super) fn new_solid(p: &IndentParams, mesh: &Mesh) -> Result<Solid, FeError>
         solid.fixed[2 * n + 1] = true;
     }
     Ok(solid)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::laws::{LennardJones, LjKind};
+
+    /// The 9-3 law's band starts at its largest tension, 3^(1/6) z₀ = 1.2009 z₀, and its tiers
+    /// change where its tail stiffness falls to 1/2, 1/4, … 1/512 of its largest,
+    /// k(h) ∝ 3(z₀/h)⁴ − 9(z₀/h)¹⁰ with the largest 0.4698 at h = 1.399 z₀ (roots of the closed
+    /// form), to the sampling step of 0.1 %.
+    #[test]
+    fn the_band_tiers_change_where_the_tail_softens() {
+        let z0 = 0.5;
+        let law = LennardJones::new(LjKind::Lj93, 0.05, z0);
+        let (start, gaps) = tier_gaps(&law);
+        assert!(
+            (start / z0 - 3f64.powf(1.0 / 6.0)).abs() < 1.5e-3,
+            "{start}"
+        );
+        let want = [
+            1.8546, 2.2345, 2.6679, 3.1770, 3.7799, 4.4959, 5.3468, 6.3586, 7.5618,
+        ];
+        for (g, want) in gaps.iter().zip(want) {
+            assert!((g / z0 / want - 1.0).abs() < 2e-3, "{gaps:?}");
+        }
+    }
 }

@@ -18,7 +18,7 @@ use super::contact::{Anchor, Contact, Damping, ProfilePoint, Stick, SurfaceArea,
 use super::element::Kinematics;
 use super::indent::{
     band_span, build_mesh, new_solid, resolve, snapshot, Adaptation, IndentParams, IndentResult,
-    Method, Progress, Resolved, Row, RunStats, Segment, Tangential, EDGE_SAFE,
+    Method, Progress, Resolved, Row, RunStats, Segment, Span, Tangential, EDGE_SAFE,
     MAX_REMESHES_PER_INCREMENT,
 };
 use super::indenter::IndenterError;
@@ -74,8 +74,11 @@ pub(super) struct March<'a> {
     zone: Option<EdgeZone>,
     /// the band the next increment is to be solved with, when it differs from `zone`
     pending: Option<EdgeZone>,
+    /// a snap that ended outside the band: its end state (carried to the pending mesh, where
+    /// the snap goes on from it), the energy Π where it started and its iterations so far
+    snap_from: Option<(Vec<f64>, f64, usize)>,
     /// the radii the band must cover at the last converged state
-    span: (f64, f64),
+    span: Span,
     /// the unknowns of the last two converged increments (nodal displacements, then δ)
     u: Vec<f64>,
     u_prev: Vec<f64>,
@@ -204,6 +207,7 @@ impl<'a> March<'a> {
                     time_s: 0.0,
                     inner_nm: z.inner,
                     outer_nm: z.outer,
+                    tail_nm: z.tail,
                     elements: mesh.triangles.len(),
                 })
                 .collect(),
@@ -238,6 +242,7 @@ impl<'a> March<'a> {
             force_floor,
             zone,
             pending: None,
+            snap_from: None,
             span,
             u_prev: u.clone(),
             u,
@@ -443,7 +448,7 @@ impl<'a> March<'a> {
 
     /// Solve one increment from the predictor. With an adaptive mesh (and `may_remesh`), a
     /// converged state whose contact edge left the band is not taken: the band that spans it
-    /// and the last converged one is made pending.
+    /// and the last converged one (after a snap, it alone) is made pending.
     fn increment(
         &mut self,
         inc: &Step,
@@ -453,8 +458,11 @@ impl<'a> March<'a> {
         let p = self.p;
         let ndof = self.solid.dofs();
         // predictor: extrapolate the last increment's change of (u, δ); a snap descends from
-        // the last equilibrium
-        let mut x = self.u.clone();
+        // the last equilibrium, or goes on from where it ended on the last mesh
+        let resumed = self.snap_from.take().filter(|_| snap);
+        let mut x = resumed
+            .as_ref()
+            .map_or_else(|| self.u.clone(), |(x, ..)| x.clone());
         if !snap && self.last_dv != 0.0 && inc.dv * self.last_dv > 0.0 {
             let ratio = inc.dv / self.last_dv;
             for ((xi, ui), pi) in x.iter_mut().zip(&self.u).zip(&self.u_prev) {
@@ -492,9 +500,12 @@ impl<'a> March<'a> {
             force_floor: self.force_floor,
         };
         let solved = if snap {
-            let start = match sys.evaluate(&x, false) {
-                Ok(pt) => pt.energy,
-                Err(e) => return Ok(Increment::Failed(newton::NewtonError::Problem(e).into())),
+            let start = match (&resumed, sys.evaluate(&x, false)) {
+                (Some((_, start, _)), _) => *start,
+                (None, Ok(pt)) => pt.energy,
+                (None, Err(e)) => {
+                    return Ok(Increment::Failed(newton::NewtonError::Problem(e).into()))
+                }
             };
             let params = NewtonParams {
                 max_iterations: SNAP_ITERATIONS,
@@ -518,21 +529,28 @@ impl<'a> March<'a> {
         };
         if let Some(z) = &self.zone {
             let trial = profile(&self.contact, &self.solid, &x, p.kinematics);
-            let (lo, hi) = band_span(&self.contact, &trial);
-            let reach = EDGE_SAFE * z.half_width;
-            if (lo < z.inner - reach || hi > z.outer + reach) && may_remesh {
-                self.pending = Some(EdgeZone {
-                    inner: lo.min(self.span.0),
-                    outer: hi.max(self.span.1),
-                    ..*z
-                });
+            let span = band_span(&self.contact, &trial);
+            if span.leaves(z, EDGE_SAFE * z.half_width) && may_remesh {
+                // a continuous increment passes the edges between its start and its end (and
+                // the damping reads its start): the band spans both, and the increment is
+                // solved again from its start; a snap only needs its end, and goes on from it
+                let needed = match released {
+                    Some(released) => {
+                        let end = sys.evaluate(&x, false)?.energy;
+                        let so_far = resumed.map_or(0, |r| r.2) + info.iterations;
+                        self.snap_from = Some((x, end + released, so_far));
+                        span
+                    }
+                    None => span.union(&self.span),
+                };
+                self.pending = Some(needed.zone(z));
                 return Ok(Increment::Remesh);
             }
         }
         let ev = sys.evaluation(&x, false)?;
         Ok(Increment::Converged {
             x,
-            iterations: info.iterations,
+            iterations: info.iterations + resumed.map_or(0, |r| r.2),
             ev,
             released,
         })
@@ -596,13 +614,8 @@ impl<'a> March<'a> {
         // shrinks) narrows to it
         self.span = band_span(&self.contact, &profile);
         if let Some(z) = &self.zone {
-            let reach = 2.0 * EDGE_SAFE * z.half_width;
-            if self.span.0 > z.inner + reach || self.span.1 < z.outer - reach {
-                self.pending = Some(EdgeZone {
-                    inner: self.span.0,
-                    outer: self.span.1,
-                    ..*z
-                });
+            if self.span.narrower_than(z, 2.0 * EDGE_SAFE * z.half_width) {
+                self.pending = Some(self.span.zone(z));
             }
         }
         Ok(())
@@ -624,6 +637,7 @@ impl<'a> March<'a> {
         };
         self.u = carry(&self.u);
         self.u_prev = carry(&self.u_prev);
+        self.snap_from = (self.snap_from.take()).map(|(x, start, n)| (carry(&x), start, n));
         self.history =
             transfer::project_elementwise(old, &self.history, self.solid.history_len(), &new_mesh);
         self.solid = new_solid(p, &new_mesh)?;
@@ -640,6 +654,7 @@ impl<'a> March<'a> {
             time_s: self.time,
             inner_nm: zone.inner,
             outer_nm: zone.outer,
+            tail_nm: zone.tail,
             elements: new_mesh.triangles.len(),
         });
         self.result.mesh_report = new_mesh.report();

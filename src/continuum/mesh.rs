@@ -128,16 +128,43 @@ type Cell = (u32, u64, u64); // (level, i, j)
 /// the edge before and after. The process zone at the edge needs h₀; the contact's interior
 /// only needs the sphere's profile resolved, so the element count grows like log(a/h₀) instead
 /// of (a/h₀)².
+///
+/// Beyond e₂ the band goes on in [`TAIL_TIERS`] coarser tiers over the law's attractive tail:
+/// tier k has cells of 2^(k+1) h₀ over r ∈ [e₁ − w, t_k + w] (depth w), where the law is soft
+/// enough for them (`continuum::indent::band_span` sets the radii t_k from the gaps).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct EdgeZone {
     /// the innermost edge e₁ the band covers, nm (0 before contact: the band sits at the axis)
     pub inner: f64,
-    /// the outermost edge e₂ ≥ e₁ the band covers, nm
+    /// the outermost radius e₂ ≥ e₁ the band of h₀ covers, nm
     pub outer: f64,
+    /// the outer radii t_k ≥ e₂ of the coarser tiers, nm (t_k = e₂: the tier adds nothing)
+    pub tail: [f64; TAIL_TIERS],
     /// half-width w of the band, also its depth, nm
     pub half_width: f64,
     /// the largest surface element over the contact, nm (≥ h₀)
     pub surface: f64,
+}
+
+/// Coarser tiers of the band beyond its part of smallest elements, at 2, 4, … 256 h₀.
+pub const TAIL_TIERS: usize = 8;
+
+impl EdgeZone {
+    /// The band at `inner`..`outer` without coarser tiers.
+    pub fn plain(inner: f64, outer: f64, half_width: f64, surface: f64) -> Self {
+        EdgeZone {
+            inner,
+            outer,
+            tail: [outer; TAIL_TIERS],
+            half_width,
+            surface,
+        }
+    }
+
+    /// The outermost radius any tier covers, nm.
+    pub fn reach(&self) -> f64 {
+        self.tail.iter().fold(self.outer, |a, &t| a.max(t))
+    }
 }
 
 /// A graded, balanced quadtree triangulation of the block, fine over the zone r ≤ r_f,
@@ -168,12 +195,14 @@ pub fn edge_block(spec: &BlockSpec, zone: &EdgeZone) -> Result<Mesh, MeshError> 
     let EdgeZone {
         inner,
         outer,
+        tail,
         half_width: w,
         surface,
     } = *zone;
     if !(inner >= 0.0
         && outer >= inner
         && outer.is_finite()
+        && tail.iter().all(|&t| t >= outer && t.is_finite())
         && w > 0.0
         && w.is_finite()
         && surface >= h0)
@@ -182,11 +211,18 @@ pub fn edge_block(spec: &BlockSpec, zone: &EdgeZone) -> Result<Mesh, MeshError> 
             "unusable edge zone {zone:?} (smallest element {h0} nm)"
         )));
     }
+    let reach = zone.reach();
     quadtree(spec, &|s, r0, r1, d0| {
-        let dr = (inner - w - r1).max(r0 - outer - w).max(0.0);
         let dz = (d0 - w).max(0.0);
-        let band = s > h0 + grading * dr.hypot(dz);
-        let strip = s > surface + grading * (r0 - outer - w).max(0.0).hypot(d0);
+        let tier = |size: f64, hi: f64| {
+            let dr = (inner - w - r1).max(r0 - hi - w).max(0.0);
+            s > size + grading * dr.hypot(dz)
+        };
+        let band = tier(h0, outer)
+            || (tail.iter())
+                .zip(1..)
+                .any(|(&t, k)| tier(h0 * 2f64.powi(k), t));
+        let strip = s > surface + grading * (r0 - reach - w).max(0.0).hypot(d0);
         band || strip
     })
 }
@@ -626,5 +662,45 @@ mod tests {
         assert_eq!(m.bottom.len(), 2);
         assert_eq!(m.axis.len(), 2);
         assert!(read_msh("$Nodes\n1\n").is_err());
+    }
+
+    /// The tiers of the band: h₀ out to e₂ + w, then 2h₀, 4h₀, 8h₀ out to each tier's radius
+    /// + w, and fewer elements than the band of h₀ over the whole span.
+    #[test]
+    fn the_band_coarsens_by_tiers_beyond_its_smallest_elements() {
+        let plain = EdgeZone::plain(100.0, 140.0, 10.0, 16.0);
+        let tiered = EdgeZone {
+            tail: [180.0, 220.0, 300.0, 300.0, 300.0, 300.0, 300.0, 300.0],
+            ..plain
+        };
+        let whole = EdgeZone::plain(100.0, 300.0, 10.0, 16.0);
+        let (p, t, w) = (
+            edge_block(&spec(), &plain).unwrap(),
+            edge_block(&spec(), &tiered).unwrap(),
+            edge_block(&spec(), &whole).unwrap(),
+        );
+        // the largest surface segment starting in each radial window
+        let largest = |m: &Mesh, lo: f64, hi: f64| {
+            m.surface
+                .windows(2)
+                .map(|s| (m.nodes[s[0]][0], m.nodes[s[1]][0]))
+                .filter(|&(a, _)| a >= lo && a < hi)
+                .fold(0.0f64, |acc, (a, b)| acc.max(b - a))
+        };
+        let h0 = spec().smallest;
+        assert_eq!(largest(&t, 90.0, 150.0), h0);
+        assert_eq!(largest(&t, 150.0, 190.0), 2.0 * h0);
+        assert_eq!(largest(&t, 190.0, 230.0), 4.0 * h0);
+        assert_eq!(largest(&t, 230.0, 310.0), 8.0 * h0);
+        assert_eq!(largest(&w, 90.0, 310.0), h0);
+        let count = |m: &Mesh| m.triangles.len();
+        assert!(count(&p) < count(&t) && count(&t) < count(&w));
+        assert_eq!(tiered.reach(), 300.0);
+        // a tier inside the band of h₀ is refused
+        let bad = EdgeZone {
+            tail: [120.0, 220.0, 300.0, 300.0, 300.0, 300.0, 300.0, 300.0],
+            ..plain
+        };
+        assert!(edge_block(&spec(), &bad).is_err());
     }
 }

@@ -18,7 +18,10 @@
 //! direction; it accepts a trial on Armijo's decrease of Π (or, once Π's changes sink into
 //! round-off, on a lower residual with Π not higher) and stops only at a point where the
 //! residual is at tolerance *and* its last step needed no shift (K positive definite at the
-//! last iterate, a step of round-off size away): a strict local minimum.
+//! last iterate, a step of round-off size away): a strict local minimum. Near a fold K is
+//! nearly singular and its unshifted step can be orders of magnitude longer than the jump
+//! itself; where every halving of a direction is rejected (Π higher, or a trial outside the
+//! material's range), the next direction is shifted at least ten times harder, hence shorter.
 
 use super::FeError;
 use crate::numerics::newton::{self as driver, armijo, norm, NewtonProblem, Trial};
@@ -107,14 +110,26 @@ impl NewtonProblem for Potential<'_> {
 
     /// A descent whose unshifted Newton step (K positive definite) finds neither a lower Π
     /// nor a lower residual, with the residual below `stagnation` of the forces in play, sits
-    /// at a minimum to round-off: converged.
+    /// at a minimum to round-off: converged. Any other descent direction rejected at every
+    /// length is replaced by a harder-shifted one.
     fn exhausted(&mut self, _x: &mut [f64]) -> bool {
         let floor = self
             .point
             .as_ref()
             .is_some_and(|pt| norm(&pt.residual) <= self.params.stagnation * pt.reference);
         self.stalled = self.descent == Some(0.0) && floor;
-        self.stalled
+        if self.stalled {
+            return true;
+        }
+        // a descent direction that could not be taken at any length: the next one starts ten
+        // times above this one's shift (`direction` tries a tenth of the last shift first)
+        match self.descent {
+            Some(shift) => {
+                self.descent = Some(shift.max(SHIFT_START) * SHIFT_GROWTH * SHIFT_GROWTH);
+                true
+            }
+            None => false,
+        }
     }
 
     fn direction(&mut self, _x: &[f64]) -> Result<Vec<f64>, FeError> {
@@ -224,10 +239,15 @@ mod tests {
     struct Quartic {
         b: Vec<f64>,
         c: f64,
+        /// the largest |x_i| the problem can evaluate
+        range: f64,
     }
 
     impl NewtonSystem for Quartic {
         fn evaluate(&mut self, x: &[f64], _tangent: bool) -> Result<Point, FeError> {
+            if x.iter().any(|x| x.abs() > self.range) {
+                return Err(FeError::Params(format!("{x:?} out of range")));
+            }
             let (b, c) = (&self.b, self.c);
             Ok(Point {
                 energy: (x.iter().zip(b))
@@ -251,7 +271,10 @@ mod tests {
             shift: f64,
             rhs: &[f64],
         ) -> Result<Option<Vec<f64>>, FeError> {
-            let k: Vec<f64> = values.iter().map(|k| k + shift * k.abs()).collect();
+            let k: Vec<f64> = values
+                .iter()
+                .map(|k| k + shift * k.abs().max(1.0))
+                .collect();
             k.iter()
                 .all(|&k| k > 0.0)
                 .then(|| self.solve(&k, rhs))
@@ -266,6 +289,7 @@ mod tests {
         let well = || Quartic {
             b: b.clone(),
             c: -1.0,
+            range: f64::INFINITY,
         };
         let mut x = start.clone();
         solve(&mut well(), &mut x, &NewtonParams::default()).unwrap();
@@ -285,11 +309,35 @@ mod tests {
         assert!(info.iterations > 1);
     }
 
+    /// Just past the inflection of a double well (Π'' = 3x² − 1 ≈ 4e-12) the unshifted step is
+    /// ~10¹¹ long: twenty halvings leave it outside the range the problem can evaluate (|x| ≤
+    /// 10) or uphill. The descent shifts harder and still reaches the minimum x = 1.
+    #[test]
+    fn descent_shifts_harder_where_no_length_of_its_step_is_taken() {
+        let mut well = Quartic {
+            b: vec![0.0],
+            c: -1.0,
+            range: 10.0,
+        };
+        let mut x = vec![1.0 / 3f64.sqrt() + 1e-12];
+        let params = NewtonParams::default();
+        let info = descend(&mut well, &mut x, &params).unwrap();
+        assert!((x[0] - 1.0).abs() < 1e-9, "{x:?}");
+        assert!(info.backtracks >= params.max_backtracks, "{info:?}");
+        // plain Newton fails there
+        let mut x = vec![1.0 / 3f64.sqrt() + 1e-12];
+        assert!(matches!(
+            solve(&mut well, &mut x, &params),
+            Err(NewtonError::LineSearch { .. })
+        ));
+    }
+
     #[test]
     fn converges_quadratically_from_far_away() {
         let mut p = Quartic {
             b: vec![1000.0, -3.0, 0.5],
             c: 1.0,
+            range: f64::INFINITY,
         };
         let mut x = vec![0.0; 3];
         let info = solve(&mut p, &mut x, &NewtonParams::default()).unwrap();

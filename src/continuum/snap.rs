@@ -16,7 +16,10 @@
 //! each snap is reported with it. Unlike the damper, the snap leaves the load on every branch
 //! the increments follow untouched. It is not tried where the material has lost ellipticity
 //! (no mesh-independent end state) nor on a load-controlled retraction (there the failure is
-//! the pull-off).
+//! the pull-off). On an adaptive mesh a snap that ends outside the band goes on from its end
+//! state, carried to a mesh whose band covers it (only it: the band need not span the edge
+//! before the jump, which would put the whole contact at the smallest size); the energy
+//! released is then Π where it started, on the first mesh, − Π at its end on the last.
 
 use serde::Serialize;
 

@@ -216,13 +216,7 @@ mod tests {
     }
 
     fn at(edge: f64) -> Mesh {
-        let zone = EdgeZone {
-            inner: edge,
-            outer: edge,
-            half_width: 5.0,
-            surface: 2.0,
-        };
-        edge_block(&spec(), &zone).unwrap()
+        edge_block(&spec(), &EdgeZone::plain(edge, edge, 5.0, 2.0)).unwrap()
     }
 
     /// ∫ h r dA over the block.
@@ -307,16 +301,7 @@ mod tests {
         }
         // a mesh with coarser surface elements over the contact is nested in `at` of the same
         // edge: a field of the coarse mesh goes to the fine one and back unchanged
-        let coarse = edge_block(
-            &spec(),
-            &EdgeZone {
-                inner: 60.0,
-                outer: 60.0,
-                half_width: 5.0,
-                surface: 8.0,
-            },
-        )
-        .unwrap();
+        let coarse = edge_block(&spec(), &EdgeZone::plain(60.0, 60.0, 5.0, 8.0)).unwrap();
         let fine = at(60.0);
         assert!(fine.nodes.len() > coarse.nodes.len());
         let u: Vec<f64> = coarse.nodes.iter().map(|&p| field(p)).collect();

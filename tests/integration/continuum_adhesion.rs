@@ -207,11 +207,8 @@ fn adaptive_element_count_stays_flat_in_mu() {
         p.mesh.adaptive = Some(true);
         let r = resolve(&p).unwrap();
         let a = r.expected_contact_radius_nm;
-        let zone = EdgeZone {
-            inner: a,
-            outer: a,
-            ..r.edge_zone.expect("adaptive")
-        };
+        let z = r.edge_zone.expect("adaptive");
+        let zone = EdgeZone::plain(a, a, z.half_width, z.surface);
         let adaptive = edge_block(&r.block, &zone).unwrap().triangles.len();
         let fixed = graded_block(&r.block).map_or(0, |m| m.triangles.len());
         eprintln!("μ = {mu}: adaptive {adaptive} elements at the edge {a:.1} nm, fixed {fixed}");
