@@ -98,8 +98,10 @@ pub struct MeshParams {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gmsh_file: Option<std::path::PathBuf>,
     /// a fine zone that follows the contact edge ([`mesh::edge_block`]), remeshed as the edge
-    /// moves (with adhesion, the Newton method and a generated mesh); unset: off (validated
-    /// at μ = 1, 2 and 5 only, docs/validation-continuum.md)
+    /// moves (with adhesion, the Newton method, a generated mesh and a frictionless indenter);
+    /// unset: on where available and the band is narrower than the contact, the expected
+    /// contact radius a > 2 `edge_zone` ℓ (validated at μ = 1, 2, 5 and 10,
+    /// docs/validation-continuum.md "Adaptive mesh")
     #[serde(skip_serializing_if = "Option::is_none")]
     pub adaptive: Option<bool>,
     /// half-width (and depth) of the adaptive band of smallest elements, in process zones
@@ -219,6 +221,12 @@ pub(super) fn band_span(contact: &Contact, profile: &[ProfilePoint]) -> Span {
 /// Remeshes within one increment at most (a jump moves the edge several times as the mesh
 /// around it resolves the law; beyond this the increment is accepted on the last mesh).
 pub const MAX_REMESHES_PER_INCREMENT: usize = 3;
+/// Remeshes within one snap at most: its descent crosses the whole jump, and the band follows
+/// its state as it goes (every [`SNAP_CHUNK`] iterations).
+pub const MAX_REMESHES_PER_SNAP: usize = 20;
+/// Descent iterations of a snap on an adaptive mesh between looks at whether its state has
+/// left the band.
+pub const SNAP_CHUNK: usize = 40;
 
 /// Default block size (width and depth) in expected contact radii. Measured on Hertz
 /// (docs/validation-continuum.md): a rigid base at depth L stiffens the load by ≈ 0.63 a/L
@@ -594,7 +602,14 @@ pub fn resolve(p: &IndentParams) -> Result<Resolved, FeError> {
         grading: m.grading,
         max_elements: m.max_elements,
     };
-    let edge_zone = match (adaptive(p)?, process_zone) {
+    let on = match (adaptive(p)?, process_zone) {
+        (Some(on), _) => on,
+        // unset: where the band (4ℓ either side of the edge) is narrower than the contact; a
+        // wider one would cover it all, as the fixed mesh does, at the cost of remeshing
+        (None, Some(ell)) => a > 2.0 * m.edge_zone * ell,
+        (None, None) => false,
+    };
+    let edge_zone = match (on, process_zone) {
         (true, Some(ell)) => Some(edge_zone(m, ell, smallest.max(a / m.elements_per_radius))?),
         _ => None,
     };
@@ -651,15 +666,11 @@ fn validate(p: &IndentParams) -> Result<(), FeError> {
     }
     if p.contact.tangential == Tangential::Stick {
         // the anchors are path state renewed after each converged increment of the march; the
-        // arc-length path and the adaptive mesh's transfer do not carry them
+        // arc-length path does not carry them (nor does the adaptive mesh's transfer, which
+        // `adaptive` leaves off for a sticking indenter)
         if p.solver.method == Method::Riks {
             return Err(FeError::Params(
                 "a sticking indenter holds the surface by anchors renewed increment by increment: it needs the Newton method, not arc-length".into(),
-            ));
-        }
-        if adaptive(p)? {
-            return Err(FeError::Params(
-                "a sticking indenter's anchors are not carried across adaptive meshes: turn mesh.adaptive off".into(),
             ));
         }
     }
@@ -704,25 +715,28 @@ fn schedule_reach(p: &IndentParams) -> Result<(f64, f64), FeError> {
 
 /// Whether the mesh follows the contact edge (`mesh.adaptive`), refused where there is no edge
 /// to follow or the run cannot remesh.
-fn adaptive(p: &IndentParams) -> Result<bool, FeError> {
-    Ok(match p.mesh.adaptive {
-        None | Some(false) => false,
-        Some(true) => {
-            let why = if p.adhesion.is_none() {
-                Some("without adhesion (no contact edge to follow)")
-            } else if p.solver.method == Method::Riks {
-                Some("with arc-length continuation (solver.method = riks)")
-            } else if p.mesh.gmsh_file.is_some() {
-                Some("with a Gmsh mesh")
-            } else {
-                None
-            };
-            if let Some(why) = why {
-                return Err(FeError::Params(format!(
-                    "mesh.adaptive = true is not available {why}: set it to false or remove it"
-                )));
-            }
-            true
+/// Whether the mesh follows the contact edge: as set, or None where it is unset and available
+/// (`resolve` then decides by the size of the band against the contact).
+fn adaptive(p: &IndentParams) -> Result<Option<bool>, FeError> {
+    let why_not = if p.adhesion.is_none() {
+        Some("without adhesion (no contact edge to follow)")
+    } else if p.solver.method == Method::Riks {
+        Some("with arc-length continuation (solver.method = riks)")
+    } else if p.mesh.gmsh_file.is_some() {
+        Some("with a Gmsh mesh")
+    } else if p.contact.tangential == Tangential::Stick {
+        Some("with a sticking indenter (its anchors are not carried across meshes)")
+    } else {
+        None
+    };
+    Ok(match (p.mesh.adaptive, why_not) {
+        (Some(false), _) | (None, Some(_)) => Some(false),
+        (None, None) => None,
+        (Some(true), None) => Some(true),
+        (Some(true), Some(why)) => {
+            return Err(FeError::Params(format!(
+                "mesh.adaptive = true is not available {why}: set it to false or remove it"
+            )))
         }
     })
 }

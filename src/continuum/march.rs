@@ -19,7 +19,7 @@ use super::element::Kinematics;
 use super::indent::{
     band_span, build_mesh, new_solid, resolve, snapshot, Adaptation, IndentParams, IndentResult,
     Method, Progress, Resolved, Row, RunStats, Segment, Span, Tangential, EDGE_SAFE,
-    MAX_REMESHES_PER_INCREMENT,
+    MAX_REMESHES_PER_INCREMENT, MAX_REMESHES_PER_SNAP, SNAP_CHUNK,
 };
 use super::indenter::IndenterError;
 use super::machine::{Drive, Driven, Machine};
@@ -360,7 +360,11 @@ impl<'a> March<'a> {
                 dt: duration * s,
                 by_load,
             };
-            match self.increment(&inc, remeshes < MAX_REMESHES_PER_INCREMENT, snapping)? {
+            let most = match snapping {
+                true => MAX_REMESHES_PER_SNAP,
+                false => MAX_REMESHES_PER_INCREMENT,
+            };
+            match self.increment(&inc, remeshes < most, snapping)? {
                 Increment::Remesh => remeshes += 1,
                 Increment::Converged {
                     x,
@@ -507,11 +511,36 @@ impl<'a> March<'a> {
                     return Ok(Increment::Failed(newton::NewtonError::Problem(e).into()))
                 }
             };
-            let params = NewtonParams {
-                max_iterations: SNAP_ITERATIONS,
-                ..p.solver.newton
+            // on an adaptive mesh the descent looks every SNAP_CHUNK iterations whether its
+            // state has left the band, and goes on from there on a mesh that follows it
+            let follow = self.zone.filter(|_| may_remesh);
+            let mut done = resumed.as_ref().map_or(0, |r| r.2);
+            let descended = loop {
+                let params = NewtonParams {
+                    max_iterations: match follow {
+                        Some(_) => SNAP_CHUNK,
+                        None => SNAP_ITERATIONS,
+                    },
+                    ..p.solver.newton
+                };
+                match (follow, newton::descend(&mut sys, &mut x, &params)) {
+                    (Some(z), Err(newton::NewtonError::NoConvergence { iterations, .. }))
+                        if done + iterations < SNAP_ITERATIONS =>
+                    {
+                        done += iterations;
+                        let now = profile(&self.contact, &self.solid, &x, p.kinematics);
+                        let span = band_span(&self.contact, &now);
+                        if span.leaves(&z, EDGE_SAFE * z.half_width) {
+                            self.pending = Some(span.zone(&z));
+                            self.snap_from = Some((x, start, done));
+                            return Ok(Increment::Remesh);
+                        }
+                    }
+                    (_, other) => break other,
+                }
             };
-            newton::descend(&mut sys, &mut x, &params).and_then(|info| {
+            descended.and_then(|mut info| {
+                info.iterations += done;
                 let end = sys
                     .evaluate(&x, false)
                     .map_err(newton::NewtonError::Problem)?;
@@ -537,8 +566,7 @@ impl<'a> March<'a> {
                 let needed = match released {
                     Some(released) => {
                         let end = sys.evaluate(&x, false)?.energy;
-                        let so_far = resumed.map_or(0, |r| r.2) + info.iterations;
-                        self.snap_from = Some((x, end + released, so_far));
+                        self.snap_from = Some((x, end + released, info.iterations));
                         span
                     }
                     None => span.union(&self.span),
@@ -550,7 +578,7 @@ impl<'a> March<'a> {
         let ev = sys.evaluation(&x, false)?;
         Ok(Increment::Converged {
             x,
-            iterations: info.iterations + resumed.map_or(0, |r| r.2),
+            iterations: info.iterations,
             ev,
             released,
         })
