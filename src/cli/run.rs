@@ -316,8 +316,14 @@ fn mesh_text(scene: &ResolvedScene) -> String {
                     l / m.smallest_nm
                 )
             });
+            let kind = m.adaptive_band_nm.map_or(String::new(), |w| {
+                format!(
+                    "adaptive: a band ±{} nm about the contact edge follows it (mesh.adaptive), first mesh ",
+                    sig(w)
+                )
+            });
             format!(
-                "\nFE mesh: {zone}{} elements, {} nodes (contact radius {} nm), about {} in the solve\n",
+                "\nFE mesh: {zone}{kind}{} elements, {} nodes (contact radius {} nm), about {} in the solve\n",
                 m.elements,
                 m.nodes,
                 sig(m.contact_radius_nm),

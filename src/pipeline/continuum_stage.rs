@@ -367,8 +367,12 @@ pub struct MeshPreview {
     pub smallest_nm: f64,
     /// expected contact radius that sizes the block, nm
     pub contact_radius_nm: f64,
-    /// triangles of the generated mesh
+    /// triangles of the generated mesh (the first one, when adaptive)
     pub elements: usize,
+    /// the band of smallest elements follows the contact edge (`mesh.adaptive`), nm: its
+    /// half-width, None on a fixed mesh
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adaptive_band_nm: Option<f64>,
     /// nodes of the generated mesh
     pub nodes: usize,
 }
@@ -389,6 +393,7 @@ pub fn mesh_preview(scene: &ResolvedScene) -> Option<Result<MeshPreview, String>
             contact_radius_nm: r.expected_contact_radius_nm,
             elements: m.elements,
             nodes: m.nodes,
+            adaptive_band_nm: r.edge_zone.map(|z| z.half_width),
         });
     Some(preview)
 }
