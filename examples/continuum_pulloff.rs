@@ -4,7 +4,7 @@
 //! `INC` (increments per segment), `C0` (damping coefficient, GPa·s/nm; 0: none, the jumps snap), `CSV` (write the rows to this folder),
 //! `CLEAR` (start and end this many z₀ clear of the surface instead of 6: the jumps of μ ≥ 5
 //! happen farther out), `VERBOSE` (print every increment), `ADAPTIVE` (0: one mesh fine over the whole contact, 1: a fine band that follows the edge;
-//! unset: the default, adaptive with adhesion), `BAND` (the band's half-width in process zones).
+//! unset: the default, adaptive where the band is narrower than the contact), `BAND` (the band's half-width in process zones).
 
 use turf::bench::presets::tabor_sphere;
 use turf::continuum::element::Kinematics;
