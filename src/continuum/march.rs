@@ -504,6 +504,11 @@ impl<'a> March<'a> {
             force_floor: self.force_floor,
         };
         let solved = if snap {
+            // a carried snap state the new mesh cannot evaluate (an element the interpolation
+            // inverted) restarts the snap from the last equilibrium on it
+            if resumed.is_some() && sys.evaluate(&x, false).is_err() {
+                x.copy_from_slice(&self.u);
+            }
             let start = match (&resumed, sys.evaluate(&x, false)) {
                 (Some((_, start, _)), _) => *start,
                 (None, Ok(pt)) => pt.energy,
