@@ -129,17 +129,35 @@ pub const EDGE_SAFE: f64 = 0.5;
 /// smallest elements end at 1.85 z₀ and its tiers at 2.23, 2.67, 3.18, 3.78, 4.50, 5.35, 6.36
 /// and 7.56 z₀; beyond the last the law allows 512 h₀, more than the contact's surface
 /// elements at μ ≤ 10).
+/// Computed once per run ([`TierGaps::of`]), read at every look at the band.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct TierGaps {
+    /// where the smallest elements start: the gap of the law's largest tension, nm
+    pub start: f64,
+    /// where the smallest elements, then each tier, end, nm
+    pub ends: [f64; TAIL_TIERS + 1],
+}
+
+impl TierGaps {
+    /// The gaps of `law` ([`tier_gaps`]).
+    pub fn of(law: &dyn SurfaceLaw) -> Self {
+        let (start, ends) = tier_gaps(law);
+        TierGaps { start, ends }
+    }
+}
+
 fn tier_gaps(law: &dyn SurfaceLaw) -> (f64, [f64; TAIL_TIERS + 1]) {
     // log-spaced gaps from g_c to 64 g_c (steps of 0.1 %): the tails of the plain and the
     // thermally shifted laws fall below k_t / 2^(TAIL_TIERS + 1) well inside
     const SAMPLES: usize = 4200;
     let gc = law.contact_gap();
     let gap = |i: usize| gc * 64f64.powf(i as f64 / SAMPLES as f64);
+    let laws: Vec<(f64, f64, f64)> = (0..=SAMPLES).map(|i| law.eval(gap(i))).collect();
     // the attractive tail: beyond the largest tension
     let peak = (0..=SAMPLES)
-        .min_by(|&i, &j| law.eval(gap(i)).1.total_cmp(&law.eval(gap(j)).1))
+        .min_by(|&i, &j| laws[i].1.total_cmp(&laws[j].1))
         .unwrap_or(0);
-    let stiffness: Vec<f64> = (peak..=SAMPLES).map(|i| law.eval(gap(i)).2.abs()).collect();
+    let stiffness: Vec<f64> = laws[peak..].iter().map(|l| l.2.abs()).collect();
     let largest = stiffness.iter().fold(0.0f64, |a, &k| a.max(k));
     let mut gaps = [gap(peak); TAIL_TIERS + 1];
     for (j, g) in gaps.iter_mut().enumerate() {
@@ -174,10 +192,9 @@ impl Span {
     /// Whether the band of `z` is wider than this span needs by more than `slack` at the edge,
     /// at the end of the smallest elements or at the band's end.
     pub fn narrower_than(&self, z: &EdgeZone, slack: f64) -> bool {
-        let end = |t: &[f64; TAIL_TIERS], o: f64| t.iter().fold(o, |a, &b| a.max(b));
         self.inner > z.inner + slack
             || self.outer < z.outer - slack
-            || end(&self.tail, self.outer) < z.reach() - slack
+            || self.zone(z).reach() < z.reach() - slack
     }
 
     /// The span covering both.
@@ -204,17 +221,16 @@ impl Span {
     }
 }
 
-/// The radii the band must cover on `profile` ([`tier_gaps`]).
-pub(super) fn band_span(contact: &Contact, profile: &[ProfilePoint]) -> Span {
-    let (start, gaps) = tier_gaps(contact.law);
+/// The radii the band must cover on `profile`, its tiers ending at the gaps `tiers`.
+pub(super) fn band_span(contact: &Contact, tiers: &TierGaps, profile: &[ProfilePoint]) -> Span {
     let radius = |g: f64| contact.radius_below(profile, g);
     let mut tail = [0.0; TAIL_TIERS];
-    for (t, &g) in tail.iter_mut().zip(&gaps[1..]) {
+    for (t, &g) in tail.iter_mut().zip(&tiers.ends[1..]) {
         *t = radius(g);
     }
     Span {
-        inner: radius(start),
-        outer: radius(gaps[0]),
+        inner: radius(tiers.start),
+        outer: radius(tiers.ends[0]),
         tail,
     }
 }

@@ -18,7 +18,7 @@ use super::contact::{Anchor, Contact, Damping, ProfilePoint, Stick, SurfaceArea,
 use super::element::Kinematics;
 use super::indent::{
     band_span, build_mesh, new_solid, resolve, snapshot, Adaptation, IndentParams, IndentResult,
-    Method, Progress, Resolved, Row, RunStats, Segment, Span, Tangential, EDGE_SAFE,
+    Method, Progress, Resolved, Row, RunStats, Segment, Span, Tangential, TierGaps, EDGE_SAFE,
     MAX_REMESHES_PER_INCREMENT, MAX_REMESHES_PER_SNAP, SNAP_CHUNK,
 };
 use super::indenter::IndenterError;
@@ -79,6 +79,8 @@ pub(super) struct March<'a> {
     snap_from: Option<(Vec<f64>, f64, usize)>,
     /// the radii the band must cover at the last converged state
     span: Span,
+    /// the gaps the band's tiers end at, of the run's law
+    tiers: TierGaps,
     /// the unknowns of the last two converged increments (nodal displacements, then δ)
     u: Vec<f64>,
     u_prev: Vec<f64>,
@@ -185,7 +187,8 @@ impl<'a> March<'a> {
         u[ndof] = p.start;
         let profile0 = profile(&contact, &solid, &u, p.kinematics);
         let gaps: Vec<f64> = profile0.iter().map(|q| q.gap).collect();
-        let span = band_span(&contact, &profile0);
+        let tiers = TierGaps::of(law);
+        let span = band_span(&contact, &tiers, &profile0);
         let history = vec![0.0; solid.history_len() * solid.elements.len()];
         let ev0 = asm.evaluate(
             &solid,
@@ -244,6 +247,7 @@ impl<'a> March<'a> {
             pending: None,
             snap_from: None,
             span,
+            tiers,
             u_prev: u.clone(),
             u,
             history,
@@ -534,7 +538,7 @@ impl<'a> March<'a> {
                     {
                         done += iterations;
                         let now = profile(&self.contact, &self.solid, &x, p.kinematics);
-                        let span = band_span(&self.contact, &now);
+                        let span = band_span(&self.contact, &self.tiers, &now);
                         if span.leaves(&z, EDGE_SAFE * z.half_width) {
                             self.pending = Some(span.zone(&z));
                             self.snap_from = Some((x, start, done));
@@ -563,7 +567,7 @@ impl<'a> March<'a> {
         };
         if let Some(z) = &self.zone {
             let trial = profile(&self.contact, &self.solid, &x, p.kinematics);
-            let span = band_span(&self.contact, &trial);
+            let span = band_span(&self.contact, &self.tiers, &trial);
             if span.leaves(z, EDGE_SAFE * z.half_width) && may_remesh {
                 // a continuous increment passes the edges between its start and its end (and
                 // the damping reads its start): the band spans both, and the increment is
@@ -645,7 +649,7 @@ impl<'a> March<'a> {
         });
         // a band wider than the converged state needs (after a jump, or as the contact
         // shrinks) narrows to it
-        self.span = band_span(&self.contact, &profile);
+        self.span = band_span(&self.contact, &self.tiers, &profile);
         if let Some(z) = &self.zone {
             if self.span.narrower_than(z, 2.0 * EDGE_SAFE * z.half_width) {
                 self.pending = Some(self.span.zone(z));
