@@ -354,6 +354,22 @@ pub struct SegmentPairEnergy {
 }
 
 impl SegmentPairEnergy {
+    /// Add the energy, gradient, Hessian and point pairs of `other` (of the same two segments),
+    /// and take the smaller of the two smallest gaps.
+    pub(super) fn add(&mut self, other: &SegmentPairEnergy) {
+        self.energy += other.energy;
+        for (g, o) in self.grad.iter_mut().zip(&other.grad) {
+            *g += o;
+        }
+        if let (Some(h), Some(o)) = (self.hessian.as_mut(), &other.hessian) {
+            for (v, w) in h.iter_mut().zip(o.iter()) {
+                *v += w;
+            }
+        }
+        self.point_pairs += other.point_pairs;
+        self.min_gap = self.min_gap.min(other.min_gap);
+    }
+
     /// No energy, no force, a zero Hessian if asked for, no point pair in range.
     pub(super) fn none(want_hessian: bool) -> Self {
         SegmentPairEnergy {
@@ -383,9 +399,18 @@ pub(super) fn quadrature_points<'a>(
     rule: &'a [(f64, f64)],
     s: &QuadSegment,
 ) -> impl Iterator<Item = QuadPoint> + 'a {
-    let (panels, length0) = (s.panels, s.length0);
-    let n = panels as f64;
-    (0..panels).flat_map(move |p| {
+    panel_points(rule, s, 0..s.panels)
+}
+
+/// The material quadrature points of the panels `panels` of `s`.
+fn panel_points<'a>(
+    rule: &'a [(f64, f64)],
+    s: &QuadSegment,
+    panels: std::ops::Range<usize>,
+) -> impl Iterator<Item = QuadPoint> + 'a {
+    let length0 = s.length0;
+    let n = s.panels as f64;
+    panels.flat_map(move |p| {
         rule.iter().map(move |&(x, w)| QuadPoint {
             t: (p as f64 + x) / n,
             weight: length0 * w / n,
@@ -398,7 +423,7 @@ pub(super) fn quadrature_points<'a>(
 /// The node gradients and Hessian blocks follow from these because the shape functions of a
 /// point are linear in its parameter.
 #[derive(Default)]
-struct PartnerSums {
+pub(super) struct PartnerSums {
     energy: f64,
     force: [f64; 3],
     force_t: [f64; 3],
@@ -433,54 +458,97 @@ pub fn energy_segment_segment(
     r_sum: f64,
     want_hessian: bool,
 ) -> SegmentPairEnergy {
-    let rc = pot.cutoff(r_sum);
-    let rc2 = rc * rc;
     let mut out = SegmentPairEnergy::none(want_hessian);
-    if !within(a, b, rc) {
+    if !within(a, b, pot.cutoff(r_sum)) {
         return out;
     }
-    let db = b.ends[1] - b.ends[0];
-    let db2 = db.length_squared();
+    let inner = InnerSum::new(pot, rule, *b, r_sum);
     let da = a.ends[1] - a.ends[0];
-    let points_b: Vec<QuadPoint> = quadrature_points(rule, b).collect();
-    let per_panel = rule.len();
-    let nb = b.panels as f64;
     for qa in quadrature_points(rule, a) {
         let p = a.ends[0] + da * qa.t;
+        if let Some(sums) = inner.partners(p, want_hessian, &mut out) {
+            scatter_point(&mut out, &sums, qa);
+        }
+    }
+    out
+}
+
+/// The inner sum of the point quadrature: one point p against the material Gauss points of
+/// segment b, Σ_j W_j u(|p − p_j|) with its force and Hessian moments.
+pub(super) struct InnerSum<'a> {
+    pot: &'a LinePairPotential,
+    rule: &'a [(f64, f64)],
+    b: QuadSegment,
+    r_sum: f64,
+    rc2: f64,
+}
+
+impl<'a> InnerSum<'a> {
+    /// Set up the sum over `b`'s points (`rule` per panel) for tubes whose outer radii sum to
+    /// `r_sum` (nm).
+    pub(super) fn new(
+        pot: &'a LinePairPotential,
+        rule: &'a [(f64, f64)],
+        b: QuadSegment,
+        r_sum: f64,
+    ) -> Self {
+        let rc = pot.cutoff(r_sum);
+        InnerSum {
+            pot,
+            rule,
+            b,
+            r_sum,
+            rc2: rc * rc,
+        }
+    }
+
+    /// The sums over the partners of the point `p` of segment a (only b's panels inside the
+    /// cutoff sphere are visited); its point pairs and smallest gap are counted into `out`.
+    /// `None` when no partner is in range.
+    pub(super) fn partners(
+        &self,
+        p: Vector,
+        want_hessian: bool,
+        out: &mut SegmentPairEnergy,
+    ) -> Option<PartnerSums> {
+        let b = &self.b;
+        let db = b.ends[1] - b.ends[0];
+        let db2 = db.length_squared();
         // parameter interval of b within the cutoff: |r − t db|² < rc²
         let r = p - b.ends[0];
         let (t_lo, t_hi) = if db2 > 0.0 {
             let rd = r.dot(db);
-            let disc = rd * rd - db2 * (r.length_squared() - rc2);
+            let disc = rd * rd - db2 * (r.length_squared() - self.rc2);
             if disc <= 0.0 {
-                continue;
+                return None;
             }
             let sq = disc.sqrt();
             ((rd - sq) / db2, (rd + sq) / db2)
-        } else if r.length_squared() < rc2 {
+        } else if r.length_squared() < self.rc2 {
             (0.0, 1.0)
         } else {
-            continue;
+            return None;
         };
         if t_hi < 0.0 || t_lo > 1.0 {
-            continue;
+            return None;
         }
+        let nb = b.panels as f64;
         let first = (t_lo.max(0.0) * nb).floor() as usize;
         let last = ((t_hi.min(1.0) * nb).floor() as usize).min(b.panels - 1);
         let mut sums = PartnerSums::default();
-        for qb in &points_b[first * per_panel..(last + 1) * per_panel] {
+        for qb in panel_points(self.rule, b, first..last + 1) {
             let dvec = r - db * qb.t;
             let rho2 = dvec.length_squared();
-            if rho2 >= rc2 {
+            if rho2 >= self.rc2 {
                 continue;
             }
             let rho = rho2.sqrt();
             if rho < RHO_DEGENERATE {
                 continue;
             }
-            let (u, du, d2u) = pot.eval(rho, r_sum);
+            let (u, du, d2u) = self.pot.eval(rho, self.r_sum);
             out.point_pairs += 1;
-            out.min_gap = out.min_gap.min(rho - r_sum);
+            out.min_gap = out.min_gap.min(rho - self.r_sum);
             let w = qb.weight;
             sums.energy += w * u;
             let n = [dvec.x / rho, dvec.y / rho, dvec.z / rho];
@@ -504,15 +572,14 @@ pub fn energy_segment_segment(
                 }
             }
         }
-        scatter_point(&mut out, &sums, qa);
+        Some(sums)
     }
-    out
 }
 
 /// Add the contributions of one point of `a` (parameter t_a, weight W_a) with all its
 /// partners to the pair's energy, gradient and Hessian. Shape-function coefficients of a point
 /// pair: c = (1 − t_a, t_a, −(1 − t_b), −t_b) on the nodes (a₀, a₁, b₀, b₁).
-fn scatter_point(out: &mut SegmentPairEnergy, s: &PartnerSums, qa: QuadPoint) {
+pub(super) fn scatter_point(out: &mut SegmentPairEnergy, s: &PartnerSums, qa: QuadPoint) {
     let (ta, wa) = (qa.t, qa.weight);
     out.energy += wa * s.energy;
     for k in 0..3 {
