@@ -462,7 +462,7 @@ pub fn energy_segment_segment(
     if !within(a, b, pot.cutoff(r_sum)) {
         return out;
     }
-    let inner = InnerSum::new(pot, rule, *b, r_sum);
+    let inner = InnerSum::new(pot, rule, b, r_sum);
     let da = a.ends[1] - a.ends[0];
     for qa in quadrature_points(rule, a) {
         let p = a.ends[0] + da * qa.t;
@@ -478,7 +478,9 @@ pub fn energy_segment_segment(
 pub(super) struct InnerSum<'a> {
     pot: &'a LinePairPotential,
     rule: &'a [(f64, f64)],
-    b: QuadSegment,
+    b: &'a QuadSegment,
+    /// the panels' bounds in b's parameter t, 0 first and 1 last; empty: b's own equal panels
+    bounds: Vec<f64>,
     r_sum: f64,
     rc2: f64,
 }
@@ -489,7 +491,7 @@ impl<'a> InnerSum<'a> {
     pub(super) fn new(
         pot: &'a LinePairPotential,
         rule: &'a [(f64, f64)],
-        b: QuadSegment,
+        b: &'a QuadSegment,
         r_sum: f64,
     ) -> Self {
         let rc = pot.cutoff(r_sum);
@@ -497,9 +499,28 @@ impl<'a> InnerSum<'a> {
             pot,
             rule,
             b,
+            bounds: Vec::new(),
             r_sum,
             rc2: rc * rc,
         }
+    }
+
+    /// The same sum on panels graded from each end of b instead of b's own: the first
+    /// `first` nm of b's reference length long, each next `growth` times longer, up to where
+    /// the two ends' panels meet (one panel of at most twice the last width between them).
+    pub(super) fn graded(mut self, first: f64, growth: f64) -> Self {
+        let half = 0.5 * self.b.length0;
+        let mut from_end = vec![0.0];
+        let mut width = first;
+        while from_end.last().is_some_and(|&s| s + width < half) {
+            from_end.push(from_end.last().map_or(width, |s| s + width));
+            width *= growth;
+        }
+        let l0 = self.b.length0;
+        self.bounds = from_end.iter().map(|s| s / l0).collect();
+        self.bounds
+            .extend(from_end.iter().rev().map(|s| (l0 - s) / l0));
+        self
     }
 
     /// The sums over the partners of the point `p` of segment a (only b's panels inside the
@@ -511,7 +532,7 @@ impl<'a> InnerSum<'a> {
         want_hessian: bool,
         out: &mut SegmentPairEnergy,
     ) -> Option<PartnerSums> {
-        let b = &self.b;
+        let b = self.b;
         let db = b.ends[1] - b.ends[0];
         let db2 = db.length_squared();
         // parameter interval of b within the cutoff: |r − t db|² < rc²
@@ -532,11 +553,30 @@ impl<'a> InnerSum<'a> {
         if t_hi < 0.0 || t_lo > 1.0 {
             return None;
         }
-        let nb = b.panels as f64;
-        let first = (t_lo.max(0.0) * nb).floor() as usize;
-        let last = ((t_hi.min(1.0) * nb).floor() as usize).min(b.panels - 1);
+        let points: Box<dyn Iterator<Item = QuadPoint>> = if self.bounds.is_empty() {
+            let nb = b.panels as f64;
+            let first = (t_lo.max(0.0) * nb).floor() as usize;
+            let last = ((t_hi.min(1.0) * nb).floor() as usize).min(b.panels - 1);
+            Box::new(panel_points(self.rule, b, first..last + 1))
+        } else {
+            // the panels [bounds[k], bounds[k + 1]] that meet [t_lo, t_hi]
+            let n = self.bounds.len() - 1;
+            let first = self
+                .bounds
+                .partition_point(|&t| t <= t_lo)
+                .saturating_sub(1);
+            let last = self.bounds.partition_point(|&t| t < t_hi).clamp(1, n);
+            let (bounds, rule, l0) = (&self.bounds, self.rule, b.length0);
+            Box::new((first..last).flat_map(move |k| {
+                let (t0, h) = (bounds[k], bounds[k + 1] - bounds[k]);
+                rule.iter().map(move |&(x, w)| QuadPoint {
+                    t: t0 + x * h,
+                    weight: l0 * w * h,
+                })
+            }))
+        };
         let mut sums = PartnerSums::default();
-        for qb in panel_points(self.rule, b, first..last + 1) {
+        for qb in points {
             let dvec = r - db * qb.t;
             let rho2 = dvec.length_squared();
             if rho2 >= self.rc2 {
