@@ -31,7 +31,7 @@
 //! the segment, and no table in (d, x) from the axis' foot holds the integral (continued below
 //! its floor, the table gave a tip pressed 1.18 nm into a side at 40° in a relaxed 400-tube
 //! turf −0.95 aJ where the quadrature gives +1.3 × 10⁵ aJ). Where a point crosses the floor beyond an end the two
-//! meet to the table's accuracy (5e-9 of the energy), so the energy stays continuous for the
+//! meet to the table's accuracy (2e-8 of the energy), so the energy stays continuous for the
 //! line search (test `a_tip_against_a_side_matches_the_point_quadrature`).
 
 use rayon::prelude::*;
@@ -889,7 +889,7 @@ mod tests {
         }
         // a short piece of a crossing the floor beyond b's tip, in the tail (gap ≈ 0.85 nm):
         // the table above the floor and the point quadrature below it meet to the table's
-        // accuracy (1e-6; 5e-9 measured)
+        // accuracy (1e-6; 2e-8 measured)
         let (_, b) = tip_and_side(90f64.to_radians(), 0.0);
         let piece = |d: f64| QuadSegment {
             ends: [Vector::new(d, -5e-4, 15.0), Vector::new(d, 5e-4, 15.0)],
