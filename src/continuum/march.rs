@@ -533,10 +533,21 @@ impl<'a> March<'a> {
                     ..p.solver.newton
                 };
                 match (follow, newton::descend(&mut sys, &mut x, &params)) {
-                    (Some(z), Err(newton::NewtonError::NoConvergence { iterations, .. }))
-                        if done + iterations < SNAP_ITERATIONS =>
-                    {
+                    (
+                        Some(z),
+                        Err(newton::NewtonError::NoConvergence {
+                            iterations,
+                            residuals,
+                        }),
+                    ) => {
                         done += iterations;
+                        if done >= SNAP_ITERATIONS {
+                            // the whole snap's count, the last chunk's residuals
+                            break Err(newton::NewtonError::NoConvergence {
+                                iterations: done,
+                                residuals,
+                            });
+                        }
                         let now = profile(&self.contact, &self.solid, &x, p.kinematics);
                         let span = band_span(&self.contact, &self.tiers, &now);
                         if span.leaves(&z, EDGE_SAFE * z.half_width) {
