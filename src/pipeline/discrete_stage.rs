@@ -44,6 +44,7 @@ use crate::discrete::drive::{
 use crate::discrete::explicit_rods::{EndCondition, ExplicitRods, RodSpec};
 use crate::discrete::model::{relax, State, StaticSolver, TurfSystem};
 use crate::discrete::rod::RodStiffness;
+use crate::discrete::rve::OVERLAP_LIMIT_NM;
 use crate::discrete::solve_newton::{is_local_minimum, minimize_newton, NewtonParams};
 use crate::discrete::structure::Structure;
 use crate::discrete::turf::Turf;
@@ -383,6 +384,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
     );
     analysis_values(&mut values, &analysis, &run.records[k.steps]);
     let mut warnings = written.warnings;
+    warnings.extend(interpenetration_warning(&run.records));
     warnings.extend(pull_off_values(
         &mut values,
         &run.records,
@@ -671,6 +673,27 @@ fn load_depth_table(records: &[StepRecord]) -> Table {
                 .map(|r| f64::from(u8::from(r.loading)))
                 .collect(),
         )
+}
+
+/// A warning when the drive's equilibria hold two tube surfaces overlapping by more than
+/// [`OVERLAP_LIMIT_NM`] (a squeezed contact stays within a few tenths of a nanometre of
+/// touching; beyond that the tubes were pushed into each other and the state is unphysical),
+/// naming the first such step and the deepest overlap.
+fn interpenetration_warning(records: &[StepRecord]) -> Option<String> {
+    let first = records
+        .iter()
+        .find(|r| r.state.min_gap < -OVERLAP_LIMIT_NM)?;
+    let deepest = records
+        .iter()
+        .map(|r| r.state.min_gap)
+        .fold(f64::INFINITY, f64::min);
+    Some(format!(
+        "tubes were pushed into each other during the compression: from step {} (strain \
+         {:.3}) two tube surfaces overlap by more than {OVERLAP_LIMIT_NM} nm (deepest {:.2} nm, \
+         compression_min_gap_nm), so those steps' states are unphysical; more strain steps \
+         (compression.steps) let the tubes get out of each other's way",
+        first.step, first.strain, -deepest
+    ))
 }
 
 /// The pull-off of an adhesive sphere into `values`: the largest tension on it after the peak
@@ -1338,5 +1361,50 @@ fn polylines(layout: &[TubeLayout], x: &[f64]) -> Grid {
                 values: layout.iter().map(|l| l.radius).collect(),
             },
         ],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::discrete::model::{EnergyParts, State};
+
+    fn record(step: usize, min_gap: f64) -> StepRecord {
+        StepRecord {
+            step,
+            loading: true,
+            strain: 0.01 * step as f64,
+            height: 2000.0,
+            stress: 0.0,
+            state: State {
+                energy: EnergyParts::default(),
+                contacts: 3,
+                min_gap,
+                platen_force: 0.0,
+                platen_nodes: 0,
+            },
+            cost: Default::default(),
+        }
+    }
+
+    /// Squeezed contacts (a few tenths of a nanometre inside the wall) pass; an overlap beyond
+    /// 1 nm is named by its first step and its deepest value.
+    #[test]
+    fn tubes_pushed_into_each_other_are_warned_of() {
+        let squeezed: Vec<_> = [0.3, 0.1, -0.2, -0.9]
+            .iter()
+            .enumerate()
+            .map(|(k, &g)| record(k, g))
+            .collect();
+        assert_eq!(interpenetration_warning(&squeezed), None);
+        let pushed: Vec<_> = [0.3, -0.2, -1.5, -3.2, -2.0]
+            .iter()
+            .enumerate()
+            .map(|(k, &g)| record(k, g))
+            .collect();
+        let w = interpenetration_warning(&pushed).expect("a warning");
+        assert!(w.contains("from step 2 (strain 0.020)"), "{w}");
+        assert!(w.contains("deepest 3.20 nm"), "{w}");
+        assert_eq!(interpenetration_warning(&[record(0, f64::INFINITY)]), None);
     }
 }
