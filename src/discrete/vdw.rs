@@ -509,14 +509,14 @@ impl<'a> InnerSum<'a> {
     /// `first` nm of b's reference length long, each next `growth` times longer, up to where
     /// the two ends' panels meet (one panel of at most twice the last width between them).
     pub(super) fn graded(mut self, first: f64, growth: f64) -> Self {
-        let half = 0.5 * self.b.length0;
+        let l0 = self.b.length0;
         let mut from_end = vec![0.0];
-        let mut width = first;
-        while from_end.last().is_some_and(|&s| s + width < half) {
-            from_end.push(from_end.last().map_or(width, |s| s + width));
+        let (mut s, mut width) = (0.0, first);
+        while s + width < 0.5 * l0 {
+            s += width;
+            from_end.push(s);
             width *= growth;
         }
-        let l0 = self.b.length0;
         self.bounds = from_end.iter().map(|s| s / l0).collect();
         self.bounds
             .extend(from_end.iter().rev().map(|s| (l0 - s) / l0));

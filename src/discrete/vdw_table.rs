@@ -25,14 +25,15 @@
 //! down to a gap of −2 nm, where the law's guard already makes the overlap cost far more than any
 //! contact gains. A point of a closer than that floor to b's axis *line* takes the point
 //! quadrature's inner sum over b's Gauss points instead ([`InnerSum`], the reference kernel's,
-//! on panels graded from [`FLOOR_PANEL`] at b's ends): inside b's span that is a deep overlap only a failed solve
-//! reaches, but beyond b's ends it is an ordinary contact — b's tip against a's side, or two
-//! tubes end to end — where the distance to the axis line says nothing about the distance to
-//! the segment, and no table in (d, x) from the axis' foot holds the integral (continued below
-//! its floor, the table gave a tip pressed 1.18 nm into a side at 40° in a relaxed 400-tube
-//! turf −0.95 aJ where the quadrature gives +1.3 × 10⁵ aJ). Where a point crosses the floor beyond an end the two
-//! meet to the table's accuracy (2e-8 of the energy), so the energy stays continuous for the
-//! line search (test `a_tip_against_a_side_matches_the_point_quadrature`).
+//! on panels graded from [`FLOOR_PANEL`] at b's ends): inside b's span that is a deep overlap
+//! only a failed solve reaches, but beyond b's ends it is an ordinary contact — b's tip against
+//! a's side, or two tubes end to end — where the distance to the axis line says nothing about
+//! the distance to the segment, and no table in (d, x) from the axis' foot holds the integral
+//! (continued below its floor, the table gave a tip pressed 1.18 nm into a side at 40° in a
+//! relaxed 400-tube turf −0.95 aJ where the quadrature gives +1.3 × 10⁵ aJ). Where a point
+//! crosses the floor beyond an end the two meet to the table's accuracy (2e-8 of the energy),
+//! so the energy stays continuous for the line search (test
+//! `a_tip_against_a_side_matches_the_point_quadrature`).
 
 use rayon::prelude::*;
 
