@@ -553,11 +553,14 @@ impl<'a> InnerSum<'a> {
         if t_hi < 0.0 || t_lo > 1.0 {
             return None;
         }
-        let points: Box<dyn Iterator<Item = QuadPoint>> = if self.bounds.is_empty() {
+        let mut sums = PartnerSums::default();
+        if self.bounds.is_empty() {
             let nb = b.panels as f64;
             let first = (t_lo.max(0.0) * nb).floor() as usize;
             let last = ((t_hi.min(1.0) * nb).floor() as usize).min(b.panels - 1);
-            Box::new(panel_points(self.rule, b, first..last + 1))
+            for qb in panel_points(self.rule, b, first..last + 1) {
+                self.add(&mut sums, out, r - db * qb.t, qb, want_hessian);
+            }
         } else {
             // the panels [bounds[k], bounds[k + 1]] that meet [t_lo, t_hi]
             let n = self.bounds.len() - 1;
@@ -566,53 +569,63 @@ impl<'a> InnerSum<'a> {
                 .partition_point(|&t| t <= t_lo)
                 .saturating_sub(1);
             let last = self.bounds.partition_point(|&t| t < t_hi).clamp(1, n);
-            let (bounds, rule, l0) = (&self.bounds, self.rule, b.length0);
-            Box::new((first..last).flat_map(move |k| {
-                let (t0, h) = (bounds[k], bounds[k + 1] - bounds[k]);
-                rule.iter().map(move |&(x, w)| QuadPoint {
-                    t: t0 + x * h,
-                    weight: l0 * w * h,
-                })
-            }))
-        };
-        let mut sums = PartnerSums::default();
-        for qb in points {
-            let dvec = r - db * qb.t;
-            let rho2 = dvec.length_squared();
-            if rho2 >= self.rc2 {
-                continue;
-            }
-            let rho = rho2.sqrt();
-            if rho < RHO_DEGENERATE {
-                continue;
-            }
-            let (u, du, d2u) = self.pot.eval(rho, self.r_sum);
-            out.point_pairs += 1;
-            out.min_gap = out.min_gap.min(rho - self.r_sum);
-            let w = qb.weight;
-            sums.energy += w * u;
-            let n = [dvec.x / rho, dvec.y / rho, dvec.z / rho];
-            let fw = w * du;
-            for (k, nk) in n.iter().enumerate() {
-                sums.force[k] += fw * nk;
-                sums.force_t[k] += fw * qb.t * nk;
-            }
-            if want_hessian {
-                // ∂²u(|r|)/∂r∂r = u'' n nᵀ + (u'/ρ)(I − n nᵀ)
-                let alpha = w * (d2u - du / rho);
-                let beta = w * du / rho;
-                let tw = [1.0, qb.t, qb.t * qb.t];
-                for k in 0..3 {
-                    for l in 0..3 {
-                        let v = alpha * n[k] * n[l] + if k == l { beta } else { 0.0 };
-                        for (m, hm) in sums.hess.iter_mut().enumerate() {
-                            hm[3 * k + l] += tw[m] * v;
-                        }
-                    }
+            for k in first..last {
+                let (t0, h) = (self.bounds[k], self.bounds[k + 1] - self.bounds[k]);
+                for &(x, w) in self.rule {
+                    let qb = QuadPoint {
+                        t: t0 + x * h,
+                        weight: b.length0 * w * h,
+                    };
+                    self.add(&mut sums, out, r - db * qb.t, qb, want_hessian);
                 }
             }
         }
         Some(sums)
+    }
+
+    /// Add the partner `qb` at `dvec` = p − p_j to `sums` (if inside the cutoff), counting it
+    /// into `out`.
+    fn add(
+        &self,
+        sums: &mut PartnerSums,
+        out: &mut SegmentPairEnergy,
+        dvec: Vector,
+        qb: QuadPoint,
+        want_hessian: bool,
+    ) {
+        let rho2 = dvec.length_squared();
+        if rho2 >= self.rc2 {
+            return;
+        }
+        let rho = rho2.sqrt();
+        if rho < RHO_DEGENERATE {
+            return;
+        }
+        let (u, du, d2u) = self.pot.eval(rho, self.r_sum);
+        out.point_pairs += 1;
+        out.min_gap = out.min_gap.min(rho - self.r_sum);
+        let w = qb.weight;
+        sums.energy += w * u;
+        let n = [dvec.x / rho, dvec.y / rho, dvec.z / rho];
+        let fw = w * du;
+        for (k, nk) in n.iter().enumerate() {
+            sums.force[k] += fw * nk;
+            sums.force_t[k] += fw * qb.t * nk;
+        }
+        if want_hessian {
+            // ∂²u(|r|)/∂r∂r = u'' n nᵀ + (u'/ρ)(I − n nᵀ)
+            let alpha = w * (d2u - du / rho);
+            let beta = w * du / rho;
+            let tw = [1.0, qb.t, qb.t * qb.t];
+            for k in 0..3 {
+                for l in 0..3 {
+                    let v = alpha * n[k] * n[l] + if k == l { beta } else { 0.0 };
+                    for (m, hm) in sums.hess.iter_mut().enumerate() {
+                        hm[3 * k + l] += tw[m] * v;
+                    }
+                }
+            }
+        }
     }
 }
 
