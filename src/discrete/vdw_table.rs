@@ -763,6 +763,33 @@ mod tests {
         assert!(e.grad[1].abs() < 1e-5 * gamma_l, "{}", e.grad[1]);
     }
 
+    /// The tabulated kernel's `tab` against the point quadrature's `quad` of the same pair:
+    /// the energy within `energy_tol` of its size, each gradient entry within `force_tol` of
+    /// the largest.
+    fn assert_agree(
+        name: &str,
+        tab: &SegmentPairEnergy,
+        quad: &SegmentPairEnergy,
+        energy_tol: f64,
+        force_tol: f64,
+    ) {
+        let scale = quad.grad.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+        assert!(
+            (tab.energy - quad.energy).abs() < energy_tol * quad.energy.abs(),
+            "{name}: {} vs {}",
+            tab.energy,
+            quad.energy
+        );
+        for k in 0..12 {
+            assert!(
+                (tab.grad[k] - quad.grad[k]).abs() < force_tol * scale,
+                "{name} grad {k}: {} vs {}",
+                tab.grad[k],
+                quad.grad[k]
+            );
+        }
+    }
+
     /// The tabulated kernel against the point quadrature with a fine inner quadrature on b and
     /// the same outer points on a: the two evaluate the same sum, up to the inner rules' errors.
     #[test]
@@ -779,21 +806,7 @@ mod tests {
                 continue;
             }
             checked += 1;
-            let scale = quad.grad.iter().fold(0.0f64, |m, g| m.max(g.abs()));
-            assert!(
-                (tab.energy - quad.energy).abs() < 1e-6 * quad.energy.abs(),
-                "seed {seed}: {} vs {}",
-                tab.energy,
-                quad.energy
-            );
-            for k in 0..12 {
-                assert!(
-                    (tab.grad[k] - quad.grad[k]).abs() < 1e-5 * scale,
-                    "seed {seed} grad {k}: {} vs {}",
-                    tab.grad[k],
-                    quad.grad[k]
-                );
-            }
+            assert_agree(&format!("seed {seed}"), &tab, &quad, 1e-6, 1e-5);
         }
         assert!(checked > 10, "the test must cover interacting pairs");
     }
@@ -872,21 +885,7 @@ mod tests {
             let mut fine = *b;
             fine.panels = 6400;
             let quad = energy_segment_segment(&pot, &rule, a, &fine, R_SUM, false);
-            let scale = quad.grad.iter().fold(0.0f64, |m, g| m.max(g.abs()));
-            assert!(
-                (tab.energy - quad.energy).abs() < 1e-5 * quad.energy.abs(),
-                "{name}: {} vs {}",
-                tab.energy,
-                quad.energy
-            );
-            for k in 0..12 {
-                assert!(
-                    (tab.grad[k] - quad.grad[k]).abs() < force_tol * scale,
-                    "{name} grad {k}: {} vs {}",
-                    tab.grad[k],
-                    quad.grad[k]
-                );
-            }
+            assert_agree(name, &tab, &quad, 1e-5, *force_tol);
         }
         // a short piece of a crossing the floor beyond b's tip, in the tail (gap ≈ 0.85 nm):
         // the table above the floor and the point quadrature below it meet to the table's
