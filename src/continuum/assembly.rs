@@ -89,7 +89,7 @@ impl Solid {
         for (e, (g, hist)) in self.elements.iter().zip(history.chunks_mut(h)).enumerate() {
             let s = element::strain(g, &self.local(g, u), self.kinematics);
             self.material
-                .update_history(&s.c, hist, dt)
+                .update_history(&s.d, hist, dt)
                 .map_err(|source| element::ElementError::Material { element: e, source })?;
         }
         Ok(())
@@ -106,7 +106,7 @@ impl Solid {
                 let hist = &history[e * h..(e + 1) * h];
                 let r = self
                     .material
-                    .response(&s.c, hist, dt)
+                    .response(&s.d, hist, dt)
                     .map_err(|source| element::ElementError::Material { element: e, source })?;
                 Ok(element::cauchy(&s, &r.stress, self.kinematics))
             })
@@ -143,7 +143,7 @@ impl Solid {
                 let s = element::strain(g, &self.local(g, u), self.kinematics);
                 let r = self
                     .material
-                    .response(&s.c, &history[e * h..(e + 1) * h], 0.0)
+                    .response(&s.d, &history[e * h..(e + 1) * h], 0.0)
                     .map_err(|source| element::ElementError::Material { element: e, source })?;
                 let z = g.nodes.iter().map(|&n| self.nodes[n][1]).sum::<f64>() / 3.0;
                 Ok(LeastElliptic {

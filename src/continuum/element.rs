@@ -17,7 +17,7 @@
 //! ε = sym ∇u, ε_θθ = u_r/R, fed to the material as C = I + 2ε, B evaluated at F = I and no
 //! geometric term — for linear elasticity exactly Hooke's small-strain theory.
 
-use super::material::{Material, MaterialError, Response, Voigt};
+use super::material::{Deformation, Material, MaterialError, Response, Voigt};
 use serde::{Deserialize, Serialize};
 
 /// Which kinematics the elements use.
@@ -110,15 +110,17 @@ pub fn volume_weight(g: &Geometry) -> f64 {
     2.0 * std::f64::consts::PI * g.r_c * g.area
 }
 
-/// Kinematic state of an element: F (in-plane 2×2 and hoop), C in Voigt form.
+/// Kinematic state of an element: F (in-plane 2×2 and hoop) and the deformation its material
+/// sees.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Strain {
     /// in-plane deformation gradient (identity under small kinematics)
     pub f: [[f64; 2]; 2],
     /// hoop stretch r/R (1 under small kinematics)
     pub f_hoop: f64,
-    /// C (finite) or I + 2ε (small), Voigt
-    pub c: Voigt,
+    /// E = ½(H + Hᵀ + HᵀH) from the displacement gradient H (finite), or ε (small), with
+    /// C = I + 2E
+    pub d: Deformation,
 }
 
 /// The strain measure of element `g` under displacements `u`.
@@ -137,24 +139,23 @@ pub fn strain(g: &Geometry, u: &[f64; 6], kin: Kinematics) -> Strain {
     match kin {
         Kinematics::Finite => {
             let f = [[1.0 + h[0][0], h[0][1]], [h[1][0], 1.0 + h[1][1]]];
-            let fh = 1.0 + hoop;
-            let c = [
-                f[0][0] * f[0][0] + f[1][0] * f[1][0],
-                f[0][1] * f[0][1] + f[1][1] * f[1][1],
-                fh * fh,
-                f[0][0] * f[0][1] + f[1][0] * f[1][1],
+            // E from H itself: C − I formed from C would lose E's low digits
+            let e = [
+                h[0][0] + 0.5 * (h[0][0] * h[0][0] + h[1][0] * h[1][0]),
+                h[1][1] + 0.5 * (h[0][1] * h[0][1] + h[1][1] * h[1][1]),
+                hoop + 0.5 * hoop * hoop,
+                0.5 * (h[0][1] + h[1][0] + h[0][0] * h[0][1] + h[1][0] * h[1][1]),
             ];
-            Strain { f, f_hoop: fh, c }
+            Strain {
+                f,
+                f_hoop: 1.0 + hoop,
+                d: Deformation::from_green(e),
+            }
         }
         Kinematics::Small => Strain {
             f: [[1.0, 0.0], [0.0, 1.0]],
             f_hoop: 1.0,
-            c: [
-                1.0 + 2.0 * h[0][0],
-                1.0 + 2.0 * h[1][1],
-                1.0 + 2.0 * hoop,
-                h[0][1] + h[1][0],
-            ],
+            d: Deformation::from_green([h[0][0], h[1][1], hoop, 0.5 * (h[0][1] + h[1][0])]),
         },
     }
 }
@@ -199,7 +200,7 @@ pub fn evaluate(
         stress,
         tangent: d,
     } = material
-        .response(&s.c, history, dt)
+        .response(&s.d, history, dt)
         .map_err(|source| ElementError::Material {
             element: index,
             source,

@@ -7,7 +7,7 @@ use turf::continuum::indent::Tangential;
 use turf::continuum::material::ellipticity::in_plane_minimum;
 use turf::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use turf::continuum::material::transverse_foam::{FibreTerm, TransverseFoam};
-use turf::continuum::material::{Elastic, Material};
+use turf::continuum::material::{Deformation, Elastic, Material};
 use turf::continuum::{run_indent, FeError, IndentParams, Segment};
 
 /// The 9-tube equal-length turf's transversely isotropic card.
@@ -34,7 +34,9 @@ fn turf_card() -> TransverseFoam {
 fn the_turf_card_loses_ellipticity_past_its_buckling_step() {
     let card = turf_card();
     for (lz, elliptic) in [(1.0, true), (0.99, true), (0.98, false), (0.95, false)] {
-        let r = card.response(&[1.0, lz * lz, 1.0, 0.0], &[], 0.0).unwrap();
+        let r = card
+            .response(&Deformation::from_c([1.0, lz * lz, 1.0, 0.0]), &[], 0.0)
+            .unwrap();
         let q = in_plane_minimum(&r, [[1.0, 0.0], [0.0, lz]], 180);
         println!(
             "λ_Z = {lz}: least acoustic eigenvalue {:.4e} GPa at {:.0}°",

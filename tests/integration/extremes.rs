@@ -11,7 +11,7 @@ use turf::continuum::machine::Machine;
 use turf::continuum::material::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use turf::continuum::material::linear::LinearElastic;
 use turf::continuum::material::viscoelastic::{PronyTerm, Viscoelastic};
-use turf::continuum::material::{Elastic, Material};
+use turf::continuum::material::{Deformation, Elastic, Material};
 use turf::continuum::{run_indent, IndentParams, IndentResult, Segment};
 use turf::discrete::broadphase::PeriodicBox;
 use turf::discrete::energy::EnergyTerm;
@@ -171,7 +171,9 @@ fn hyperfoam_alpha_30_uniaxial_matches_the_closed_form() {
     let m = foam30();
     // compression to 30 % of the height and tension to 1.5 (λ^29 = 1.3e5)
     for lam in [0.3f64, 0.5, 0.8, 0.99, 1.01, 1.2, 1.5] {
-        let r = m.response(&[1.0, lam * lam, 1.0, 0.0], &[], 0.0).unwrap();
+        let r = m
+            .response(&Deformation::from_c([1.0, lam * lam, 1.0, 0.0]), &[], 0.0)
+            .unwrap();
         let t = 2.0 * mu / alpha * (lam.powf(alpha - 1.0) - 1.0 / lam);
         // nominal stress T = λS_zz
         assert!(
@@ -302,12 +304,16 @@ fn prony_limits_relaxed_and_unrelaxed_are_exact() {
             },
             prony: vec![PronyTerm { g, tau }],
         };
-        let s0 = m.elastic.response(&c, &[], dt).unwrap().stress;
+        let s0 = m
+            .elastic
+            .response(&Deformation::from_c(c), &[], dt)
+            .unwrap()
+            .stress;
         let hist = vec![0.0; m.history_len()];
         // a ramp from rest to c over dt: S = S₀[(1 − g) + g(τ/Δt)(1 − e^(−Δt/τ))]
         let x = dt / tau;
         let factor = 1.0 - g + g * (-(-x).exp_m1() / x);
-        let r = m.response(&c, &hist, dt).unwrap();
+        let r = m.response(&Deformation::from_c(c), &hist, dt).unwrap();
         for k in 0..4 {
             assert!(r.stress[k].is_finite());
             assert!((r.stress[k] - factor * s0[k]).abs() <= PRONY_TOL * s0[1].abs());
@@ -317,8 +323,9 @@ fn prony_limits_relaxed_and_unrelaxed_are_exact() {
         assert!((factor - limit).abs() <= 1e-3 * limit, "τ = {tau}");
         // and a hold of dt after the ramp decays the viscous part by e^(−Δt/τ)
         let mut h = hist.clone();
-        m.update_history(&c, &mut h, dt).unwrap();
-        let s = m.response(&c, &h, dt).unwrap().stress;
+        m.update_history(&Deformation::from_c(c), &mut h, dt)
+            .unwrap();
+        let s = m.response(&Deformation::from_c(c), &h, dt).unwrap().stress;
         let held = 1.0 - g + g * (-(-x).exp_m1() / x) * (-x).exp();
         for k in 0..4 {
             assert!(

@@ -5,7 +5,7 @@
 
 use turf::continuum::material::hyperfoam as fe;
 use turf::continuum::material::transverse_foam::{FibreTerm, TransverseFoam as FeFoam};
-use turf::continuum::material::Material;
+use turf::continuum::material::{Deformation, Material};
 use turf::homogenize::curve::StressStrainCurve;
 use turf::homogenize::hyperfoam::{Hyperfoam, HyperfoamTerm};
 use turf::homogenize::transverse_foam::{fit_transverse, TransverseFitParams, TransverseFoam};
@@ -74,12 +74,16 @@ fn the_fe_material_point_matches_the_closed_forms_of_the_three_tests() {
     for eps in [0.01, 0.1, 0.2, 0.3] {
         let l = 1.0 - eps;
         // axial: F = diag(1, 1, λ) in (R, Z, θ) = (x, z, y), P_ZZ = λ S_ZZ
-        let r = m.response(&[1.0, l * l, 1.0, 0.0], &[], 0.0).unwrap();
+        let r = m
+            .response(&Deformation::from_c([1.0, l * l, 1.0, 0.0]), &[], 0.0)
+            .unwrap();
         let sigma = c.axial_stress(eps).unwrap();
         close(-l * r.stress[1], sigma, sigma, "axial");
         close(r.stress[0], 0.0, sigma, "axial: lateral stress");
         // lateral: F = diag(λ, λ_z = 1, 1), P_RR = λ S_RR, no stress along the axis
-        let r = m.response(&[l * l, 1.0, 1.0, 0.0], &[], 0.0).unwrap();
+        let r = m
+            .response(&Deformation::from_c([l * l, 1.0, 1.0, 0.0]), &[], 0.0)
+            .unwrap();
         let sigma = c.lateral_stress(eps).unwrap();
         close(-l * r.stress[0], sigma, sigma, "lateral");
         close(r.stress[1], 0.0, sigma, "lateral: axial stress");
@@ -88,7 +92,11 @@ fn the_fe_material_point_matches_the_closed_forms_of_the_three_tests() {
         let g = eps;
         let (tau, lz) = c.shear_stress(g).unwrap();
         let r = m
-            .response(&[1.0, g * g + lz * lz, 1.0, g], &[], 0.0)
+            .response(
+                &Deformation::from_c([1.0, g * g + lz * lz, 1.0, g]),
+                &[],
+                0.0,
+            )
             .unwrap();
         close(r.stress[3] + g * r.stress[1], tau, tau, "shear");
         close(lz * r.stress[1], 0.0, tau, "shear: axial stress");

@@ -88,7 +88,7 @@ pub fn in_plane_minimum(
 mod tests {
     use super::*;
     use crate::continuum::material::linear::LinearElastic;
-    use crate::continuum::material::Material;
+    use crate::continuum::material::{Deformation, Material};
 
     #[test]
     fn an_isotropic_solid_at_rest_has_the_shear_modulus_as_its_least_wave_stiffness() {
@@ -98,7 +98,9 @@ mod tests {
             poisson: 0.3,
         };
         let (lambda, mu) = m.lame();
-        let r = m.response(&[1.0, 1.0, 1.0, 0.0], &[], 0.0).unwrap();
+        let r = m
+            .response(&Deformation::from_c([1.0, 1.0, 1.0, 0.0]), &[], 0.0)
+            .unwrap();
         let q = in_plane_minimum(&r, [[1.0, 0.0], [0.0, 1.0]], 90);
         assert!(
             (q.eigenvalue - mu).abs() < 1e-12 * (lambda + 2.0 * mu),

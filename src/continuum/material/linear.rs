@@ -15,8 +15,8 @@
 //! Under small kinematics the same bound is a strain of −1/3, far outside linear elasticity.
 
 use super::{
-    add_scaled, contract, finite, jacobian, outer, sym_product, Material, MaterialError, Response,
-    Voigt, IDENTITY,
+    add_scaled, contract, finite, outer, sym_product, Deformation, Material, MaterialError,
+    Response, Voigt, IDENTITY,
 };
 use serde::{Deserialize, Serialize};
 
@@ -67,23 +67,23 @@ fn min_principal(c: &Voigt) -> f64 {
 }
 
 impl Material for LinearElastic {
-    fn response(&self, c: &Voigt, _history: &[f64], _dt: f64) -> Result<Response, MaterialError> {
-        jacobian(c)?;
-        let c_min = min_principal(c);
+    fn response(
+        &self,
+        d: &Deformation,
+        _history: &[f64],
+        _dt: f64,
+    ) -> Result<Response, MaterialError> {
+        d.ln_jacobian()?;
+        let c_min = min_principal(d.c());
         if !(c_min >= SVK_MIN_STRETCH_SQUARED) {
             return Err(MaterialError::OutOfRange(format!(
                 "St Venant–Kirchhoff compressed past its limit point (principal stretch² {c_min:.4} < 1/3)"
             )));
         }
         let (lam, mu) = self.lame();
-        let e: Voigt = [
-            0.5 * (c[0] - 1.0),
-            0.5 * (c[1] - 1.0),
-            0.5 * (c[2] - 1.0),
-            0.5 * c[3],
-        ];
+        let e = d.green();
         let tr = e[0] + e[1] + e[2];
-        let energy = 0.5 * lam * tr * tr + mu * contract(&e, &e);
+        let energy = 0.5 * lam * tr * tr + mu * contract(e, e);
         let mut stress = [0.0; 4];
         for i in 0..4 {
             stress[i] = lam * tr * IDENTITY[i] + 2.0 * mu * e[i];
@@ -97,7 +97,7 @@ impl Material for LinearElastic {
                 stress,
                 tangent,
             },
-            c,
+            d,
         )
     }
 }
@@ -130,7 +130,7 @@ mod tests {
         let lat = -0.25 * eps;
         let r = m
             .response(
-                &[1.0 + 2.0 * lat, 1.0 + 2.0 * eps, 1.0 + 2.0 * lat, 0.0],
+                &Deformation::from_c([1.0 + 2.0 * lat, 1.0 + 2.0 * eps, 1.0 + 2.0 * lat, 0.0]),
                 &[],
                 0.0,
             )
@@ -146,7 +146,7 @@ mod tests {
             poisson: 0.0,
         };
         assert!(matches!(
-            m.response(&[1.0, 1.0, -1.0, 0.0], &[], 0.0),
+            m.response(&Deformation::from_c([1.0, 1.0, -1.0, 0.0]), &[], 0.0),
             Err(MaterialError::NonPositiveJ { .. })
         ));
         assert!(LinearElastic {
@@ -164,14 +164,20 @@ mod tests {
             poisson: 0.3,
         };
         // uniaxial: the nominal stress λS is most compressive at λ² = 1/3
-        let nominal =
-            |l2: f64| l2.sqrt() * m.response(&[1.0, l2, 1.0, 0.0], &[], 0.0).unwrap().stress[1];
+        let nominal = |l2: f64| {
+            l2.sqrt()
+                * m.response(&Deformation::from_c([1.0, l2, 1.0, 0.0]), &[], 0.0)
+                    .unwrap()
+                    .stress[1]
+        };
         assert!(nominal(0.34) < nominal(0.36) && nominal(0.34) < nominal(0.5));
         // a sheared point whose smallest principal value is below 1/3 (eigenvalues 1 ± 0.7)
         assert!(matches!(
-            m.response(&[1.0, 1.0, 1.0, 0.7], &[], 0.0),
+            m.response(&Deformation::from_c([1.0, 1.0, 1.0, 0.7]), &[], 0.0),
             Err(MaterialError::OutOfRange(_))
         ));
-        assert!(m.response(&[1.0, 1.0, 1.0, 0.6], &[], 0.0).is_ok());
+        assert!(m
+            .response(&Deformation::from_c([1.0, 1.0, 1.0, 0.6]), &[], 0.0)
+            .is_ok());
     }
 }

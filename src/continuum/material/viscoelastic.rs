@@ -15,7 +15,7 @@
 //! 𝔺 = γ𝔺₀. Ψ is what a solution reports as its strain energy: the incremental potential of
 //! the step, of the order of the stored energy but not the free energy of the relaxing solid. History per point: S₀ⁿ then Hᵢⁿ (4 values each).
 
-use super::{contract, Material, MaterialError, Response, Voigt};
+use super::{contract, Deformation, Material, MaterialError, Response};
 use serde::{Deserialize, Serialize};
 
 /// One Prony term.
@@ -75,8 +75,13 @@ impl<M: Material> Material for Viscoelastic<M> {
         }
     }
 
-    fn response(&self, c: &Voigt, history: &[f64], dt: f64) -> Result<Response, MaterialError> {
-        let r0 = self.elastic.response(c, &[], dt)?;
+    fn response(
+        &self,
+        d: &Deformation,
+        history: &[f64],
+        dt: f64,
+    ) -> Result<Response, MaterialError> {
+        let r0 = self.elastic.response(d, &[], dt)?;
         if self.prony.is_empty() {
             return Ok(r0);
         }
@@ -101,7 +106,8 @@ impl<M: Material> Material for Viscoelastic<M> {
         // the incremental potential up to a constant of the step: ½A:(C − I) instead of ½A:C
         // (same stress and tangent), so the reported energy is of the order of stress × strain
         // rather than carrying ½tr A, which grows as the stress relaxes during a hold
-        let strain2 = [c[0] - 1.0, c[1] - 1.0, c[2] - 1.0, c[3]];
+        let e = d.green();
+        let strain2 = [2.0 * e[0], 2.0 * e[1], 2.0 * e[2], 2.0 * e[3]];
         Ok(Response {
             energy: gamma * r0.energy + 0.5 * contract(&a_t, &strain2),
             stress,
@@ -109,11 +115,16 @@ impl<M: Material> Material for Viscoelastic<M> {
         })
     }
 
-    fn update_history(&self, c: &Voigt, history: &mut [f64], dt: f64) -> Result<(), MaterialError> {
+    fn update_history(
+        &self,
+        d: &Deformation,
+        history: &mut [f64],
+        dt: f64,
+    ) -> Result<(), MaterialError> {
         if self.prony.is_empty() {
             return Ok(());
         }
-        let s0 = self.elastic.response(c, &[], dt)?.stress;
+        let s0 = self.elastic.response(d, &[], dt)?.stress;
         for (i, p) in self.prony.iter().enumerate() {
             let (e, a) = decay(dt, p.tau);
             for k in 0..4 {
@@ -156,16 +167,30 @@ mod tests {
     fn a_step_relaxes_as_g_of_t_whatever_the_time_step() {
         let m = model();
         let c = [0.9, 0.7, 1.0, 0.02];
-        let s0 = m.elastic.response(&c, &[], 0.0).unwrap().stress;
+        let s0 = m
+            .elastic
+            .response(&Deformation::from_c(c), &[], 0.0)
+            .unwrap()
+            .stress;
         let mut hist = vec![0.0; m.history_len()];
         // the step itself, applied in an instant
-        assert_eq!(m.response(&c, &hist, 0.0).unwrap().stress, s0);
-        m.update_history(&c, &mut hist, 0.0).unwrap();
+        assert_eq!(
+            m.response(&Deformation::from_c(c), &hist, 0.0)
+                .unwrap()
+                .stress,
+            s0
+        );
+        m.update_history(&Deformation::from_c(c), &mut hist, 0.0)
+            .unwrap();
         let mut t = 0.0;
         for dt in [0.05, 0.5, 2.0, 7.0, 0.01] {
             t += dt;
-            let s = m.response(&c, &hist, dt).unwrap().stress;
-            m.update_history(&c, &mut hist, dt).unwrap();
+            let s = m
+                .response(&Deformation::from_c(c), &hist, dt)
+                .unwrap()
+                .stress;
+            m.update_history(&Deformation::from_c(c), &mut hist, dt)
+                .unwrap();
             let g = relaxation(&m.prony, t);
             for k in 0..4 {
                 assert!(
@@ -180,7 +205,7 @@ mod tests {
     fn algorithmic_stress_and_tangent_derive_from_the_incremental_potential() {
         let m = model();
         let mut hist = vec![0.0; m.history_len()];
-        m.update_history(&[0.95, 0.8, 1.0, 0.01], &mut hist, 0.3)
+        m.update_history(&Deformation::from_c([0.95, 0.8, 1.0, 0.01]), &mut hist, 0.3)
             .unwrap();
         let (es, ed) = fd::mismatch(&m, &[0.9, 0.75, 1.02, 0.03], &hist, 0.4);
         assert!(es < FD_TOL && ed < FD_TOL, "{es} {ed}");
