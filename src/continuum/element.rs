@@ -14,7 +14,7 @@
 //! G_(ak)(bl) = δ_kl bₐ·S·b_b + δ_kr δ_lr S_θθ/(3R_c)².
 //!
 //! Small kinematics (`Kinematics::Small`): the same energy with the linearised strain
-//! ε = sym ∇u, ε_θθ = u_r/R, fed to the material as C = I + 2ε, B evaluated at F = I and no
+//! ε = sym ∇u, ε_θθ = u_r/R, fed to the material as E = ε (C = I + 2ε), B evaluated at F = I and no
 //! geometric term — for linear elasticity exactly Hooke's small-strain theory.
 
 use super::material::{Deformation, Material, MaterialError, Response, Voigt};

@@ -16,7 +16,10 @@
 //! divided difference Γ₁₂ = (c₁^q − c₂^q)/(c₁ − c₂) evaluated as c₂^(q−1)·expm1(q ln r)/expm1(ln r),
 //! r = c₁/c₂ — accurate through the repeated-eigenvalue limit Γ → q c^(q−1), where the
 //! (arbitrary) eigenbasis no longer matters. The volumetric term is a function of J:
-//! S = Jψ′C⁻¹, 𝔺 = (Jψ′ + J²ψ″) C⁻¹⊗C⁻¹ − 2Jψ′ 𝕀_{C⁻¹}.
+//! S = Jψ′C⁻¹, 𝔺 = (Jψ′ + J²ψ″) C⁻¹⊗C⁻¹ − 2Jψ′ 𝕀_{C⁻¹}. The energy is summed as
+//! Σ expm1(p ln cₐ) with ln cₐ = ln_1p(2eₐ), eₐ the principal values of E, and ln J from
+//! [`Deformation::ln_jacobian`]: relative precision at any small strain (module doc of
+//! [`super`]).
 
 use super::{
     add_scaled, finite, inverse, outer, sym_product, Deformation, Material, MaterialError,
