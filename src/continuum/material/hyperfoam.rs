@@ -22,8 +22,8 @@
 //! [`super`]).
 
 use super::{
-    add_scaled, finite, inverse, outer, sym_product, Deformation, Material, MaterialError,
-    Response, Voigt,
+    add_scaled, finite, inverse, outer, sym_product, Deformation, Evaluated, Material,
+    MaterialError, Response, Voigt,
 };
 use crate::numerics::divided_power;
 use serde::{Deserialize, Serialize};
@@ -115,12 +115,7 @@ fn eigen_2x2(a: f64, b: f64, d: f64) -> (f64, f64, [f64; 2], [f64; 2]) {
 }
 
 impl Material for Hyperfoam {
-    fn response(
-        &self,
-        d: &Deformation,
-        _history: &[f64],
-        _dt: f64,
-    ) -> Result<Response, MaterialError> {
+    fn response(&self, d: &Deformation, _history: &[f64], _dt: f64) -> Evaluated {
         let ln_j = d.ln_jacobian()?;
         let cinv = inverse(d.c());
         // principal values of E; cₐ = 1 + 2eₐ, and ln cₐ = ln_1p(2eₐ) keeps its precision

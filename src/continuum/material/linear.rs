@@ -15,8 +15,8 @@
 //! Under small kinematics the same bound is a strain of −1/3, far outside linear elasticity.
 
 use super::{
-    add_scaled, contract, finite, outer, sym_product, Deformation, Material, MaterialError,
-    Response, Voigt, IDENTITY,
+    add_scaled, contract, finite, outer, sym_product, Deformation, Evaluated, Material,
+    MaterialError, Response, Voigt, IDENTITY,
 };
 use serde::{Deserialize, Serialize};
 
@@ -67,12 +67,7 @@ fn min_principal(c: &Voigt) -> f64 {
 }
 
 impl Material for LinearElastic {
-    fn response(
-        &self,
-        d: &Deformation,
-        _history: &[f64],
-        _dt: f64,
-    ) -> Result<Response, MaterialError> {
+    fn response(&self, d: &Deformation, _history: &[f64], _dt: f64) -> Evaluated {
         d.ln_jacobian()?;
         let c_min = min_principal(d.c());
         if !(c_min >= SVK_MIN_STRETCH_SQUARED) {

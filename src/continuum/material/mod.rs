@@ -79,6 +79,9 @@ pub enum MaterialError {
     OutOfRange(String),
 }
 
+/// A material point's evaluation: its response, or why it cannot be evaluated.
+pub type Evaluated = Result<Response, MaterialError>;
+
 /// A constitutive model evaluated at one material point.
 pub trait Material: Send + Sync {
     /// Number of history values stored per material point (0 for elastic models).
@@ -88,12 +91,7 @@ pub trait Material: Send + Sync {
 
     /// ψ, S and 𝔺 at the deformation `d`, given the history at the start of a step of length
     /// `dt` (s).
-    fn response(
-        &self,
-        d: &Deformation,
-        history: &[f64],
-        dt: f64,
-    ) -> Result<Response, MaterialError>;
+    fn response(&self, d: &Deformation, history: &[f64], dt: f64) -> Evaluated;
 
     /// Advance the history to the end of a converged step that ended at `d`.
     fn update_history(
@@ -139,12 +137,7 @@ impl Elastic {
 }
 
 impl Material for Elastic {
-    fn response(
-        &self,
-        d: &Deformation,
-        history: &[f64],
-        dt: f64,
-    ) -> Result<Response, MaterialError> {
+    fn response(&self, d: &Deformation, history: &[f64], dt: f64) -> Evaluated {
         match self {
             Elastic::Linear(m) => m.response(d, history, dt),
             Elastic::Hyperfoam(m) => m.response(d, history, dt),

@@ -23,7 +23,7 @@
 //! 𝔺_ZZRZ = 𝔺_RZZZ += −2μ_s C_RZ/I₄², 𝔺_RZRZ += μ_s/I₄.
 
 use super::hyperfoam::Hyperfoam;
-use super::{finite, Deformation, Material, MaterialError, Response};
+use super::{finite, Deformation, Evaluated, Material, MaterialError};
 use serde::{Deserialize, Serialize};
 
 /// One fibre term: the hyperfoam's one-stretch function of λ_a.
@@ -89,12 +89,7 @@ impl TransverseFoam {
 }
 
 impl Material for TransverseFoam {
-    fn response(
-        &self,
-        d: &Deformation,
-        history: &[f64],
-        dt: f64,
-    ) -> Result<Response, MaterialError> {
+    fn response(&self, d: &Deformation, history: &[f64], dt: f64) -> Evaluated {
         let mut r = self.matrix.response(d, history, dt)?;
         let (i4, crz) = (d.c()[1], d.c()[3]);
         let ln_i4 = (2.0 * d.green()[1]).ln_1p();

@@ -15,7 +15,7 @@
 //! 𝔺 = γ𝔺₀. Ψ is what a solution reports as its strain energy: the incremental potential of
 //! the step, of the order of the stored energy but not the free energy of the relaxing solid. History per point: S₀ⁿ then Hᵢⁿ (4 values each).
 
-use super::{contract, Deformation, Material, MaterialError, Response};
+use super::{contract, Deformation, Evaluated, Material, MaterialError, Response};
 use serde::{Deserialize, Serialize};
 
 /// One Prony term.
@@ -75,12 +75,7 @@ impl<M: Material> Material for Viscoelastic<M> {
         }
     }
 
-    fn response(
-        &self,
-        d: &Deformation,
-        history: &[f64],
-        dt: f64,
-    ) -> Result<Response, MaterialError> {
+    fn response(&self, d: &Deformation, history: &[f64], dt: f64) -> Evaluated {
         let r0 = self.elastic.response(d, &[], dt)?;
         if self.prony.is_empty() {
             return Ok(r0);
