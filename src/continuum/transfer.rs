@@ -24,7 +24,8 @@ pub struct Locator<'a> {
     mesh: &'a Mesh,
     /// triangle across edge k (vertex k to k + 1) of every triangle
     neighbours: Vec<[usize; 3]>,
-    /// the tolerance of the orientation tests, nm²
+    /// the tolerance of the orientation tests: how far beyond an edge a point may lie and
+    /// still count as on it, nm (round-off of the block's coordinates, far below any element)
     eps: f64,
 }
 
@@ -53,7 +54,7 @@ impl<'a> Locator<'a> {
         Locator {
             mesh,
             neighbours,
-            eps: 1e-13 * scale * scale,
+            eps: 1e-12 * scale,
         }
     }
 
@@ -67,9 +68,14 @@ impl<'a> Locator<'a> {
         let mut t = start;
         for _ in 0..self.mesh.triangles.len() {
             let c = self.corners(t);
-            // leave across the edge that p lies most clearly beyond
+            // leave across the edge that p lies most clearly beyond, by its distance from the
+            // edge's line (a tolerance on the cross product itself would scale with the edge,
+            // and let a point a whole small element away count as inside)
             let (k, worst) = (0..3)
-                .map(|k| (k, cross(c[k], c[(k + 1) % 3], p)))
+                .map(|k| {
+                    let (a, b) = (c[k], c[(k + 1) % 3]);
+                    (k, cross(a, b, p) / (b[0] - a[0]).hypot(b[1] - a[1]))
+                })
                 .min_by(|a, b| a.1.total_cmp(&b.1))
                 .expect("three edges");
             if worst >= -self.eps || self.neighbours[t][k] == NONE {
@@ -261,6 +267,35 @@ mod tests {
             let want = if k % 2 == 0 { 3.0 } else { -1.0 };
             assert!((v - want).abs() < ROUND_OFF, "{v}");
         }
+    }
+
+    /// A band of 0.08 nm elements in a block 2 × 10⁵ nm wide (the seed's γ on the turf card):
+    /// the walk's orientation tolerance must follow the triangles, not the block, or it stops
+    /// in a neighbour of the triangle holding a point and the projection divides by nothing.
+    #[test]
+    fn a_band_of_tiny_elements_in_a_wide_block_projects_without_loss() {
+        let wide = BlockSpec {
+            width: 2e5,
+            depth: 2e5,
+            smallest: 0.08,
+            ..spec()
+        };
+        let band = |edge: f64| edge_block(&wide, &EdgeZone::plain(edge, edge, 1.0, 0.4)).unwrap();
+        let (a, b) = (band(300.0), band(301.0));
+        let c: Vec<f64> = (0..a.triangles.len()).flat_map(|_| [3.0, -1.0]).collect();
+        let cb = project_elementwise(&a, &c, 2, &b);
+        for (k, v) in cb.iter().enumerate() {
+            let want = if k % 2 == 0 { 3.0 } else { -1.0 };
+            assert!(
+                (v - want).abs() < ROUND_OFF,
+                "value {k} of {}: {v}",
+                cb.len()
+            );
+        }
+        let h = centroid_field(&a);
+        let hb = project_elementwise(&a, &h, 1, &b);
+        let (ia, ib) = (integral(&a, &h), integral(&b, &hb));
+        assert!((ib / ia - 1.0).abs() < ROUND_OFF, "{ia} → {ib}");
     }
 
     #[test]
