@@ -101,10 +101,9 @@ impl<M: Material> Material for Viscoelastic<M> {
         // the incremental potential up to a constant of the step: ½A:(C − I) instead of ½A:C
         // (same stress and tangent), so the reported energy is of the order of stress × strain
         // rather than carrying ½tr A, which grows as the stress relaxes during a hold
-        let e = d.green();
-        let strain2 = [2.0 * e[0], 2.0 * e[1], 2.0 * e[2], 2.0 * e[3]];
+        // (½A:(C − I) = A:E)
         Ok(Response {
-            energy: gamma * r0.energy + 0.5 * contract(&a_t, &strain2),
+            energy: gamma * r0.energy + contract(&a_t, d.green()),
             stress,
             tangent,
         })
