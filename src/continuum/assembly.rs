@@ -315,6 +315,7 @@ impl Assembler {
                 }
             }
         }
+        let mut bad_segment = None;
         if let Some(c) = contact {
             let small = solid.kinematics == Kinematics::Small;
             for (i, s) in c.segments.iter().enumerate() {
@@ -324,6 +325,11 @@ impl Assembler {
                     [x_ref[a][0] + u[2 * n], x_ref[a][1] + u[2 * n + 1]]
                 });
                 let o = c.segment(i, x, x_ref, depth, small);
+                if bad_segment.is_none()
+                    && !(o.energy.is_finite() && o.force.iter().all(|f| f.is_finite()))
+                {
+                    bad_segment = Some(i);
+                }
                 let d: [usize; 4] = dofs_of(s);
                 ev.energy += o.energy;
                 ev.damping_energy += o.damping;
@@ -348,7 +354,15 @@ impl Assembler {
         }
         ev.force_scale = ev.force_scale.sqrt();
         if !ev.energy.is_finite() || ev.gradient.iter().any(|v| !v.is_finite()) {
-            return Err(FeError::NonFinite("energy or forces".into()));
+            let finite = |o: &element::ElementOutput| {
+                o.energy.is_finite() && o.force.iter().all(|f| f.is_finite())
+            };
+            let at = match (outs.iter().position(|o| !finite(o)), bad_segment) {
+                (Some(e), _) => format!("element {e}"),
+                (None, Some(i)) => format!("contact segment {i}"),
+                (None, None) => "no single element or segment (their sum overflowed)".into(),
+            };
+            return Err(FeError::NonFinite(format!("energy or forces at {at}")));
         }
         self.stats.assemblies += 1;
         self.stats.assembly_s += t0.elapsed().as_secs_f64();

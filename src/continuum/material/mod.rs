@@ -77,6 +77,15 @@ pub enum MaterialError {
     /// the deformation is outside the range where the model is physical
     #[error("material point outside the model's range: {0}")]
     OutOfRange(String),
+    /// the history handed to the point (from the last step, or projected from another mesh) is
+    /// not finite
+    #[error("history not finite in {bad} of its {len} values (carried from the last step or another mesh)")]
+    NonFiniteHistory {
+        /// non-finite values
+        bad: usize,
+        /// values per point
+        len: usize,
+    },
 }
 
 /// A material point's evaluation: its response, or why it cannot be evaluated.

@@ -80,6 +80,13 @@ impl<M: Material> Material for Viscoelastic<M> {
         if self.prony.is_empty() {
             return Ok(r0);
         }
+        let bad = history.iter().filter(|v| !v.is_finite()).count();
+        if bad > 0 {
+            return Err(MaterialError::NonFiniteHistory {
+                bad,
+                len: history.len(),
+            });
+        }
         let s0n = &history[..4];
         let g_inf = 1.0 - self.prony.iter().map(|p| p.g).sum::<f64>();
         let mut gamma = g_inf;
@@ -203,5 +210,17 @@ mod tests {
             .unwrap();
         let (es, ed) = fd::mismatch(&m, &[0.9, 0.75, 1.02, 0.03], &hist, 0.4);
         assert!(es < FD_TOL && ed < FD_TOL, "{es} {ed}");
+    }
+
+    /// A history that is not finite (a corrupt projection from another mesh) is refused with
+    /// a named error, not passed on as a NaN stress.
+    #[test]
+    fn a_history_that_is_not_finite_is_refused() {
+        let m = model();
+        let mut hist = vec![0.0; m.history_len()];
+        hist[5] = f64::NAN;
+        hist[9] = f64::INFINITY;
+        let r = m.response(&Deformation::from_c([0.9, 0.75, 1.02, 0.03]), &hist, 0.4);
+        assert_eq!(r, Err(MaterialError::NonFiniteHistory { bad: 2, len: 12 }));
     }
 }
