@@ -267,6 +267,26 @@ impl TurfSystem {
             .fold(f64::NEG_INFINITY, f64::max)
     }
 
+    /// The top of each tube, the largest z + r over its free nodes (nm): where a platen meets
+    /// it. Their largest is [`Self::height`]; their mean does not grow with the patch as the
+    /// largest does (the tallest of N tubes stands about σ_L√(2 ln N) above the mean).
+    pub fn tube_tops(&self, x: &[f64]) -> Vec<f64> {
+        let wall = &self.wall_nodes;
+        self.model
+            .rods
+            .rods()
+            .iter()
+            .map(|rod| {
+                let (first, end) = (rod.first_node(), rod.first_node() + rod.nodes());
+                wall[wall.partition_point(|w| w.0 < first)..wall.partition_point(|w| w.0 < end)]
+                    .iter()
+                    .map(|&(n, r)| x[3 * n + 2] + r)
+                    .fold(f64::NEG_INFINITY, f64::max)
+            })
+            .filter(|t| t.is_finite())
+            .collect()
+    }
+
     /// Where the drive starts the platen (the indenter's lowest point), nm: at the top of the
     /// turf ([`Self::height`]), or with the sphere's adhesion z₀ above it, so that the first
     /// tip meets the law at its equilibrium separation rather than deep in its repulsion.

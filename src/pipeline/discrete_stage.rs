@@ -380,7 +380,7 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         &sys,
         &relaxed,
         resume.as_ref(),
-        &run.records,
+        (&run.records, run.tops),
     );
     analysis_values(&mut values, &analysis, &run.records[k.steps]);
     let mut warnings = written.warnings;
@@ -483,6 +483,29 @@ fn relaxed_start(
 struct Compressed {
     records: Vec<StepRecord>,
     vtk_files: Vec<PathBuf>,
+    /// the relaxed tubes' tops
+    tops: Tops,
+}
+
+/// The tops of the relaxed tubes (nm): the mean and standard deviation over the tubes. The
+/// strain from the mean top, (H̄ − H)/H̄, is a measure of the patch that does not drift with its
+/// size as the nominal strain from the tallest tube does.
+#[derive(Debug, Clone, Copy)]
+struct Tops {
+    mean: f64,
+    sd: f64,
+}
+
+impl Tops {
+    fn of(tops: &[f64]) -> Self {
+        let n = tops.len().max(1) as f64;
+        let mean = tops.iter().sum::<f64>() / n;
+        let var = tops.iter().map(|t| (t - mean).powi(2)).sum::<f64>() / n;
+        Tops {
+            mean,
+            sd: var.sqrt(),
+        }
+    }
 }
 
 impl Compressed {
@@ -516,6 +539,7 @@ impl Compressed {
         let mut vtk_files: Vec<PathBuf> = Vec::new();
         let mut side_error = None;
         let start_height = resume.map_or(sys.start_height(x), |r| r.start_height);
+        let tops = Tops::of(&sys.tube_tops(x));
         let mut reached: Vec<SavedStep> = Vec::new();
         let mut partial: Vec<StepRecord> = Vec::new();
         let mut observe = |rec: &StepRecord, saved: &SavedStep| {
@@ -545,21 +569,25 @@ impl Compressed {
         let drive = compress(sys, x, &params, solver, resume, &mut observe);
         let records = match drive {
             Ok(r) => r,
-            Err(e) => return Err(Self::failed_part_way(job, &partial, e)),
+            Err(e) => return Err(Self::failed_part_way(job, &partial, tops, e)),
         };
         if let Some(e) = side_error {
             return Err(e);
         }
-        Ok(Compressed { records, vtk_files })
+        Ok(Compressed {
+            records,
+            vtk_files,
+            tops,
+        })
     }
 
     /// The error of a drive that failed after `partial`, with those steps written (step 0 at
     /// least, unless a side file failed first).
-    fn failed_part_way(job: &Job, partial: &[StepRecord], e: DriveError) -> StageError {
+    fn failed_part_way(job: &Job, partial: &[StepRecord], tops: Tops, e: DriveError) -> StageError {
         let rel = job.rel();
         let file = rel.join("stress_strain.csv");
         let written = !partial.is_empty()
-            && steps_table(partial)
+            && steps_table(partial, tops)
                 .write(&job.ctx.out_dir.join(&file))
                 .is_ok();
         let kept = if written {
@@ -611,7 +639,7 @@ fn write_realisation(
         files.push(file);
         Ok(())
     };
-    write(&steps_table(records), "stress_strain.csv")?;
+    write(&steps_table(records, run.tops), "stress_strain.csv")?;
     if k.indenter == Indenter::Sphere {
         write(&load_depth_table(records), LOAD_DEPTH_CSV)?;
     }
@@ -733,7 +761,7 @@ fn realisation_values(
     sys: &TurfSystem,
     relaxed: &RelaxReport,
     resume: Option<&Resume>,
-    records: &[StepRecord],
+    (records, tops): (&[StepRecord], Tops),
 ) {
     let mut put = |name: &str, v: f64| {
         values.insert(name.to_string(), v);
@@ -770,6 +798,8 @@ fn realisation_values(
     put("relaxation_iterations", relaxed.cost.iterations as f64);
     put("wall_time_relaxation_s", relaxed.cost.seconds);
     put("turf_height_nm", records[0].height);
+    put("turf_mean_top_nm", tops.mean);
+    put("turf_top_sd_nm", tops.sd);
     put(
         "wall_time_compression_s",
         records.iter().map(|r| r.cost.seconds).sum(),
@@ -1178,7 +1208,7 @@ fn analyse(records: &[StepRecord]) -> CurveAnalysis {
     CurveAnalysis::new(l, u)
 }
 
-fn steps_table(records: &[StepRecord]) -> Table {
+fn steps_table(records: &[StepRecord], tops: Tops) -> Table {
     let col = |f: &dyn Fn(&StepRecord) -> f64| records.iter().map(f).collect::<Vec<f64>>();
     Table::new()
         .column("step", col(&|r| r.step as f64))
@@ -1186,6 +1216,10 @@ fn steps_table(records: &[StepRecord]) -> Table {
         .column("strain", col(&|r| r.strain))
         .column("stress_GPa", col(&|r| r.stress))
         .column("platen_height_nm", col(&|r| r.height))
+        .column(
+            "strain_from_mean_top",
+            col(&|r| (tops.mean - r.height) / tops.mean),
+        )
         .column("platen_force_nN", col(&|r| r.state.platen_force))
         .column("bending_aJ", col(&|r| r.state.energy.bending))
         .column("stretching_aJ", col(&|r| r.state.energy.stretching))

@@ -304,6 +304,25 @@ fn the_pipeline_writes_the_curve_homogenize_fits_it_and_a_resumed_run_repeats_it
     assert_eq!(json["stages"][0]["stage"], "discrete");
     assert_eq!(v["tubes"], 4.0);
     assert!(v["peak_stress_GPa"].as_f64().unwrap() > 0.0);
+    // the strain from the tubes' mean top: (H̄ − H)/H̄ on every row, H̄ below the tallest top
+    // (the platen's start) by a fraction of the tubes' spread of heights
+    let (mean, sd, tallest) = (
+        v["turf_mean_top_nm"].as_f64().unwrap(),
+        v["turf_top_sd_nm"].as_f64().unwrap(),
+        v["turf_height_nm"].as_f64().unwrap(),
+    );
+    assert!(
+        sd > 0.0 && mean < tallest && tallest - mean < 2.0 * sd,
+        "{mean} {sd} {tallest}"
+    );
+    let columns: Vec<&str> = header.split(',').collect();
+    let at = |name: &str| columns.iter().position(|c| *c == name).unwrap();
+    let (from_top, height) = (at("strain_from_mean_top"), at("platen_height_nm"));
+    for line in csv.lines().skip(1) {
+        let row: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        let expected = (mean - row[height]) / mean;
+        assert!((row[from_top] - expected).abs() < 1e-12, "{line}");
+    }
     // relaxed tubes touch (a contact) without interpenetrating
     let gap = v["relaxed_min_gap_nm"].as_f64().unwrap();
     assert!(gap > 0.0 && gap < 2.5, "smallest relaxed gap {gap} nm");
