@@ -842,8 +842,9 @@ fn analysis_values(
 
 /// The scalars of a realisation that the ensemble reduces, as (summary name without the unit,
 /// unit suffix): what [`CurveAnalysis`] gives — the peak stress, σ₀, the fitted (5.1) law and
-/// the hysteresis — and the relaxed structure with the micromechanics' σ₀ from it.
-const ENSEMBLE_SCALARS: [(&str, &str); 12] = [
+/// the hysteresis — the relaxed structure with the micromechanics' σ₀ from it, and the tubes'
+/// tops (the tallest, their mean and spread: the nominal strain's origin against the mean's).
+const ENSEMBLE_SCALARS: [(&str, &str); 15] = [
     ("peak_stress", "_GPa"),
     ("sigma0", "_GPa"),
     ("tangent_e0", "_GPa"),
@@ -856,6 +857,9 @@ const ENSEMBLE_SCALARS: [(&str, &str); 12] = [
     ("structure_theta", ""),
     ("micromech_sigma0_printed", "_GPa"),
     ("micromech_sigma0_arc", "_GPa"),
+    ("turf_height", "_nm"),
+    ("turf_mean_top", "_nm"),
+    ("turf_top_sd", "_nm"),
 ];
 
 /// The ensemble's mean stress–strain curve along the common path, every step.

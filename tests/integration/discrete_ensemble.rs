@@ -224,6 +224,7 @@ fn three_realisations_are_three_single_runs_their_mean_and_a_student_t_interval(
         ("peak_stress_GPa", "peak_stress", "_GPa"),
         ("hysteresis", "hysteresis", ""),
         ("tangent_e0_GPa", "tangent_e0", "_GPa"),
+        ("turf_mean_top_nm", "turf_mean_top", "_nm"),
     ] {
         let x: Vec<f64> = members
             .iter()
