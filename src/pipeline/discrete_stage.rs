@@ -840,6 +840,60 @@ fn analysis_values(
     put("contacts_at_peak", peak.state.contacts as f64);
 }
 
+/// The realisations' loading curves against the strain from each one's mean top,
+/// ε̄ = (H̄ − H)/H̄ = 1 − (1 − ε)H₀/H̄ (ε the nominal strain from its tallest top H₀),
+/// interpolated linearly onto as many equally spaced ε̄ as the path has loading steps, over the
+/// range every realisation covers, and reduced as the path is. `None` without that range (or
+/// without the tops in a realisation's values).
+fn mean_top_ensemble(finished: &[Finished]) -> Option<Table> {
+    let curves = finished
+        .iter()
+        .map(|f| {
+            let h0 = f.values.get("turf_height_nm")?;
+            let top = f.values.get("turf_mean_top_nm")?;
+            let points: Vec<(f64, f64)> = f
+                .path
+                .iter()
+                .filter(|p| p.1)
+                .map(|&(e, _, s)| (1.0 - (1.0 - e) * h0 / top, s))
+                .collect();
+            Some((f.index, points))
+        })
+        .collect::<Option<Vec<_>>>()?;
+    let n = curves[0].1.len();
+    let lo = curves.iter().map(|c| c.1[0].0).fold(f64::MIN, f64::max);
+    let hi = curves
+        .iter()
+        .map(|c| c.1[c.1.len() - 1].0)
+        .fold(f64::MAX, f64::min);
+    if !(n >= 2 && hi > lo) {
+        return None;
+    }
+    let grid: Vec<f64> = (0..n)
+        .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
+        .collect();
+    let members = curves
+        .iter()
+        .map(|(k, c)| (*k, grid.iter().map(|&e| interpolate(c, e)).collect()))
+        .collect();
+    PathEnsemble::new(grid, vec![true; n], members)
+        .ok()
+        .map(|e| e.table_along("strain_from_mean_top"))
+}
+
+/// Linear interpolation in `points` (abscissae ascending) at `x` within their range.
+fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
+    let i = points
+        .partition_point(|p| p.0 < x)
+        .clamp(1, points.len() - 1);
+    let ((x0, y0), (x1, y1)) = (points[i - 1], points[i]);
+    if x1 == x0 {
+        y1
+    } else {
+        y0 + (y1 - y0) * (x - x0) / (x1 - x0)
+    }
+}
+
 /// The scalars of a realisation that the ensemble reduces, as (summary name without the unit,
 /// unit suffix): what [`CurveAnalysis`] gives — the peak stress, σ₀, the fitted (5.1) law and
 /// the hysteresis — the relaxed structure with the micromechanics' σ₀ from it, and the tubes'
@@ -864,6 +918,8 @@ const ENSEMBLE_SCALARS: [(&str, &str); 15] = [
 
 /// The ensemble's mean stress–strain curve along the common path, every step.
 pub const ENSEMBLE_CSV: &str = "discrete_ensemble.csv";
+/// The ensemble's mean loading curve against the strain from each turf's mean top.
+pub const ENSEMBLE_MEAN_TOP_CSV: &str = "discrete_ensemble_mean_top.csv";
 /// The ensemble's report: seeds, estimates, failures.
 const ENSEMBLE_JSON: &str = "discrete_ensemble.json";
 
@@ -923,6 +979,9 @@ fn ensemble_output(
         Ok(())
     };
     write(ensemble.table(), ENSEMBLE_CSV, &mut files)?;
+    if let Some(t) = mean_top_ensemble(&finished) {
+        write(t, ENSEMBLE_MEAN_TOP_CSV, &mut files)?;
+    }
     let (mean_loading, mean_unloading) = ensemble.mean_branches();
     write(
         branch_table(&mean_loading),

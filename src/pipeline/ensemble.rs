@@ -206,6 +206,11 @@ impl PathEnsemble {
     /// realisations `stress_ci95_low_GPa, stress_ci95_high_GPa`, then `stress_rKKK_GPa` of
     /// each realisation that finished.
     pub fn table(&self) -> Table {
+        self.table_along("strain")
+    }
+
+    /// [`Self::table`] with the path's strain column named `strain`.
+    pub fn table_along(&self, strain: &str) -> Table {
         let mut t = Table::new()
             .column("step", (0..self.strain.len()).map(|i| i as f64).collect())
             .column(
@@ -215,7 +220,7 @@ impl PathEnsemble {
                     .map(|&l| f64::from(u8::from(l)))
                     .collect(),
             )
-            .column("strain", self.strain.clone())
+            .column(strain, self.strain.clone())
             .column("stress_mean_GPa", self.mean());
         if self.has_interval() {
             t = t

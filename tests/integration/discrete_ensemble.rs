@@ -248,6 +248,51 @@ fn three_realisations_are_three_single_runs_their_mean_and_a_student_t_interval(
     assert_eq!(members[1]["values"]["resumed_after_step"], 10.0);
     assert!(members[2]["values"].get("resumed_after_step").is_none());
 
+    // 3b. the loading curves against the strain from each turf's mean top, on a common grid
+    // inside every realisation's range: each member column is its own curve interpolated
+    // there, and the mean theirs
+    let top = columns(&ensemble.join("discrete_ensemble_mean_top.csv"));
+    let grid = &top["strain_from_mean_top"];
+    // as many points as the path's loading steps (step 0 and the 5 down)
+    assert_eq!(grid.len(), 6);
+    for k in 0..3 {
+        let dir = match k {
+            0 => ensemble.clone(),
+            _ => ensemble.join(format!("realisations/r{k:03}")),
+        };
+        let own = columns(&dir.join("stress_strain.csv"));
+        let (e, s) = (&own["strain_from_mean_top"], &own["stress_GPa"]);
+        let loading: Vec<(f64, f64)> = (0..e.len())
+            .filter(|&i| own["loading"][i] == 1.0)
+            .map(|i| (e[i], s[i]))
+            .collect();
+        // (ε̄ is formed from the nominal strain on the one side and from the heights on the
+        // other: equal to rounding)
+        let last = loading[loading.len() - 1].0;
+        assert!(grid[0] >= loading[0].0 - 1e-12 && grid[5] <= last + 1e-12);
+        for (i, &g) in grid.iter().enumerate() {
+            let j = loading
+                .iter()
+                .position(|p| p.0 >= g)
+                .unwrap_or(loading.len() - 1)
+                .max(1);
+            let ((x0, y0), (x1, y1)) = (loading[j - 1], loading[j]);
+            let expected = y0 + (y1 - y0) * (g - x0) / (x1 - x0);
+            let got = top[&format!("stress_r{k:03}_GPa")][i];
+            assert!(
+                (got - expected).abs() <= 1e-9 * expected.abs().max(1e-6),
+                "realisation {k} at {g}: {got} against {expected}"
+            );
+        }
+    }
+    for i in 0..6 {
+        let m = (0..3)
+            .map(|k| top[&format!("stress_r{k:03}_GPa")][i])
+            .sum::<f64>()
+            / 3.0;
+        assert!(close(top["stress_mean_GPa"][i], m, MEAN_TOL, 0.0));
+    }
+
     // 4. realisation 0's files are the single run's; the others sit in their folders
     assert_eq!(
         without_time(&ensemble.join("stress_strain.csv")),
