@@ -497,8 +497,16 @@ struct Tops {
 }
 
 impl Tops {
-    fn of(tops: &[f64]) -> Self {
-        let n = tops.len().max(1) as f64;
+    /// Of the tubes' `tops`; a turf without a free node (no top to measure) counts as one top
+    /// at `tallest`.
+    fn of(tops: &[f64], tallest: f64) -> Self {
+        if tops.is_empty() {
+            return Tops {
+                mean: tallest,
+                sd: 0.0,
+            };
+        }
+        let n = tops.len() as f64;
         let mean = tops.iter().sum::<f64>() / n;
         let var = tops.iter().map(|t| (t - mean).powi(2)).sum::<f64>() / n;
         Tops {
@@ -539,7 +547,7 @@ impl Compressed {
         let mut vtk_files: Vec<PathBuf> = Vec::new();
         let mut side_error = None;
         let start_height = resume.map_or(sys.start_height(x), |r| r.start_height);
-        let tops = Tops::of(&sys.tube_tops(x));
+        let tops = Tops::of(&sys.tube_tops(x), sys.height(x));
         let mut reached: Vec<SavedStep> = Vec::new();
         let mut partial: Vec<StepRecord> = Vec::new();
         let mut observe = |rec: &StepRecord, saved: &SavedStep| {
