@@ -853,7 +853,7 @@ fn analysis_values(
 /// interpolated linearly onto as many equally spaced ε̄ as the path has loading steps, over the
 /// range every realisation covers, and reduced as the path is. `None` without that range (or
 /// without the tops in a realisation's values).
-fn mean_top_ensemble(finished: &[Finished]) -> Option<Table> {
+fn mean_top_ensemble(finished: &[Finished]) -> Option<PathEnsemble> {
     let curves = finished
         .iter()
         .map(|f| {
@@ -884,9 +884,7 @@ fn mean_top_ensemble(finished: &[Finished]) -> Option<Table> {
         .iter()
         .map(|(k, c)| (*k, grid.iter().map(|&e| interpolate(c, e)).collect()))
         .collect();
-    PathEnsemble::new(grid, vec![true; n], members)
-        .ok()
-        .map(|e| e.table_along("strain_from_mean_top"))
+    PathEnsemble::new(grid, vec![true; n], members).ok()
 }
 
 /// Linear interpolation in `points` (abscissae ascending) at `x` within their range.
@@ -928,6 +926,8 @@ const ENSEMBLE_SCALARS: [(&str, &str); 15] = [
 pub const ENSEMBLE_CSV: &str = "discrete_ensemble.csv";
 /// The ensemble's mean loading curve against the strain from each turf's mean top.
 pub const ENSEMBLE_MEAN_TOP_CSV: &str = "discrete_ensemble_mean_top.csv";
+/// Its strain column, as in `stress_strain.csv`.
+const MEAN_TOP_STRAIN: &str = "strain_from_mean_top";
 /// The ensemble's report: seeds, estimates, failures.
 const ENSEMBLE_JSON: &str = "discrete_ensemble.json";
 
@@ -987,8 +987,13 @@ fn ensemble_output(
         Ok(())
     };
     write(ensemble.table(), ENSEMBLE_CSV, &mut files)?;
-    if let Some(t) = mean_top_ensemble(&finished) {
-        write(t, ENSEMBLE_MEAN_TOP_CSV, &mut files)?;
+    let mean_top = mean_top_ensemble(&finished);
+    if let Some(e) = &mean_top {
+        write(
+            e.table_along(MEAN_TOP_STRAIN),
+            ENSEMBLE_MEAN_TOP_CSV,
+            &mut files,
+        )?;
     }
     let (mean_loading, mean_unloading) = ensemble.mean_branches();
     write(
@@ -1032,6 +1037,17 @@ fn ensemble_output(
             &mut out.warnings,
         );
         files.extend(written.into_iter().map(PathBuf::from));
+        if let Some(e) = &mean_top {
+            let written = e
+                .plot_along("strain from the tubes' mean top, (H_mean - H)/H_mean")
+                .write_or_warn(
+                    &ctx.out_dir.join("plots"),
+                    "discrete_ensemble_mean_top",
+                    "plots",
+                    &mut out.warnings,
+                );
+            files.extend(written.into_iter().map(PathBuf::from));
+        }
     }
     out.values.insert("realisations".into(), count as f64);
     out.values
@@ -1288,7 +1304,7 @@ fn steps_table(records: &[StepRecord], tops: Tops) -> Table {
         .column("stress_GPa", col(&|r| r.stress))
         .column("platen_height_nm", col(&|r| r.height))
         .column(
-            "strain_from_mean_top",
+            MEAN_TOP_STRAIN,
             col(&|r| (tops.mean - r.height) / tops.mean),
         )
         .column("platen_force_nN", col(&|r| r.state.platen_force))

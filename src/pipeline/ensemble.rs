@@ -240,9 +240,14 @@ impl PathEnsemble {
 
     /// The band plot: each realisation as a thin line, the 95 % band of each branch, the mean.
     pub fn plot(&self) -> Plot {
+        self.plot_along("nominal strain")
+    }
+
+    /// [`Self::plot`] with the strain axis labelled `strain`.
+    pub fn plot_along(&self, strain: &str) -> Plot {
         let mut plot = Plot::new(
             &format!("Turf compression, {} realisations", self.members.len()),
-            "nominal strain",
+            strain,
             "nominal stress (GPa)",
         );
         if self.has_interval() {
