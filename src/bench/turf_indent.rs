@@ -10,6 +10,7 @@
 
 use super::ladder::{failed_row, ChainRun};
 use super::{BenchError, Cost, Row};
+use crate::numerics::interpolate;
 use crate::numerics::statistics::Estimate;
 use crate::scene::Stage;
 use std::path::Path;
@@ -132,13 +133,6 @@ impl Tip {
             .filter(|&t| t != Tip::Adhesive || spec.adhesive.is_some())
             .collect()
     }
-}
-
-/// `y(x)` on the piecewise-linear curve through `(xs, ys)` (`xs` increasing), `None` outside.
-fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
-    let i = xs.windows(2).position(|w| w[0] <= x && x <= w[1])?;
-    let t = (x - xs[i]) / (xs[i + 1] - xs[i]).max(f64::MIN_POSITIVE);
-    Some(ys[i] + t * (ys[i + 1] - ys[i]))
 }
 
 /// The `(depth_nm, load_nN)` columns of a `load_depth.csv` written by the discrete or the

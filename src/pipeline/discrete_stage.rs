@@ -51,6 +51,7 @@ use crate::discrete::turf::Turf;
 use crate::discrete::vdw::VdwParams;
 use crate::discrete::vdw_term::TubeLayout;
 use crate::homogenize::curve_analysis::{Branch, CurveAnalysis};
+use crate::numerics::interpolate;
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
 use crate::report::vtk::{CellKind, DataArray, Grid};
@@ -859,45 +860,34 @@ fn mean_top_ensemble(finished: &[Finished]) -> Option<PathEnsemble> {
         .map(|f| {
             let h0 = f.values.get("turf_height_nm")?;
             let top = f.values.get("turf_mean_top_nm")?;
-            let points: Vec<(f64, f64)> = f
+            let (strain, stress): (Vec<f64>, Vec<f64>) = f
                 .path
                 .iter()
                 .filter(|p| p.1)
                 .map(|&(e, _, s)| (1.0 - (1.0 - e) * h0 / top, s))
-                .collect();
-            Some((f.index, points))
+                .unzip();
+            Some((f.index, strain, stress))
         })
         .collect::<Option<Vec<_>>>()?;
     let n = curves[0].1.len();
-    let lo = curves.iter().map(|c| c.1[0].0).fold(f64::MIN, f64::max);
-    let hi = curves
-        .iter()
-        .map(|c| c.1[c.1.len() - 1].0)
-        .fold(f64::MAX, f64::min);
+    let lo = curves.iter().map(|c| c.1[0]).fold(f64::MIN, f64::max);
+    let hi = curves.iter().map(|c| c.1[n - 1]).fold(f64::MAX, f64::min);
     if !(n >= 2 && hi > lo) {
         return None;
     }
-    let grid: Vec<f64> = (0..n)
+    // both ends exactly: each is some realisation's own first or last point
+    let mut grid: Vec<f64> = (0..n)
         .map(|k| lo + (hi - lo) * k as f64 / (n - 1) as f64)
         .collect();
+    grid[n - 1] = hi;
     let members = curves
         .iter()
-        .map(|(k, c)| (*k, grid.iter().map(|&e| interpolate(c, e)).collect()))
-        .collect();
+        .map(|(k, strain, stress)| {
+            let at = grid.iter().map(|&e| interpolate(strain, stress, e));
+            Some((*k, at.collect::<Option<Vec<f64>>>()?))
+        })
+        .collect::<Option<Vec<_>>>()?;
     PathEnsemble::new(grid, vec![true; n], members).ok()
-}
-
-/// Linear interpolation in `points` (abscissae ascending) at `x` within their range.
-fn interpolate(points: &[(f64, f64)], x: f64) -> f64 {
-    let i = points
-        .partition_point(|p| p.0 < x)
-        .clamp(1, points.len() - 1);
-    let ((x0, y0), (x1, y1)) = (points[i - 1], points[i]);
-    if x1 == x0 {
-        y1
-    } else {
-        y0 + (y1 - y0) * (x - x0) / (x1 - x0)
-    }
 }
 
 /// The scalars of a realisation that the ensemble reduces, as (summary name without the unit,
