@@ -7,7 +7,7 @@
 //! Constrained dofs keep their prescribed values: their residual entries are zeroed (the
 //! gradient keeps them as reactions), their rows and columns carry only the unit diagonal.
 
-use super::contact::Contact;
+use super::contact::{Contact, SegmentOutput};
 use super::element::{self, Geometry, Kinematics, StepContext};
 use super::material::ellipticity::{self, AcousticMinimum};
 use super::material::{Material, Voigt};
@@ -70,6 +70,17 @@ impl Solid {
             ue[2 * a + 1] = u[2 * n + 1];
         }
         ue
+    }
+
+    /// Contact segment `i` of `c` under displacements `u` with the indenter at `depth`.
+    fn contact_segment(&self, c: &Contact, i: usize, u: &[f64], depth: f64) -> SegmentOutput {
+        let s = c.segments[i];
+        let x_ref = [self.nodes[s[0]], self.nodes[s[1]]];
+        let x = [0, 1].map(|a| {
+            let n = s[a];
+            [x_ref[a][0] + u[2 * n], x_ref[a][1] + u[2 * n + 1]]
+        });
+        c.segment(i, x, x_ref, depth, self.kinematics == Kinematics::Small)
     }
 
     fn context(&self, dt: f64) -> StepContext<'_> {
@@ -315,21 +326,9 @@ impl Assembler {
                 }
             }
         }
-        let mut bad_segment = None;
         if let Some(c) = contact {
-            let small = solid.kinematics == Kinematics::Small;
             for (i, s) in c.segments.iter().enumerate() {
-                let x_ref = [solid.nodes[s[0]], solid.nodes[s[1]]];
-                let x = [0, 1].map(|a| {
-                    let n = s[a];
-                    [x_ref[a][0] + u[2 * n], x_ref[a][1] + u[2 * n + 1]]
-                });
-                let o = c.segment(i, x, x_ref, depth, small);
-                if bad_segment.is_none()
-                    && !(o.energy.is_finite() && o.force.iter().all(|f| f.is_finite()))
-                {
-                    bad_segment = Some(i);
-                }
+                let o = solid.contact_segment(c, i, u, depth);
                 let d: [usize; 4] = dofs_of(s);
                 ev.energy += o.energy;
                 ev.damping_energy += o.damping;
@@ -354,13 +353,25 @@ impl Assembler {
         }
         ev.force_scale = ev.force_scale.sqrt();
         if !ev.energy.is_finite() || ev.gradient.iter().any(|v| !v.is_finite()) {
-            let finite = |o: &element::ElementOutput| {
-                o.energy.is_finite() && o.force.iter().all(|f| f.is_finite())
+            // where: the first element, else the first contact segment (evaluated again: only
+            // on this path) that is not finite
+            let finite = |energy: f64, force: &[f64]| {
+                energy.is_finite() && force.iter().all(|f| f.is_finite())
             };
-            let at = match (outs.iter().position(|o| !finite(o)), bad_segment) {
-                (Some(e), _) => format!("element {e}"),
-                (None, Some(i)) => format!("contact segment {i}"),
-                (None, None) => "no single element or segment (their sum overflowed)".into(),
+            let bad_segment = || {
+                contact.and_then(|c| {
+                    (0..c.segments.len()).find(|&i| {
+                        let o = solid.contact_segment(c, i, u, depth);
+                        !finite(o.energy, &o.force)
+                    })
+                })
+            };
+            let at = match outs.iter().position(|o| !finite(o.energy, &o.force)) {
+                Some(e) => format!("element {e}"),
+                None => match bad_segment() {
+                    Some(i) => format!("contact segment {i}"),
+                    None => "no single element or segment (their sum overflowed)".into(),
+                },
             };
             return Err(FeError::NonFinite(format!("energy or forces at {at}")));
         }
