@@ -123,12 +123,19 @@ impl CurveAnalysis {
         w
     }
 
+    /// The fit of (5.1) when it is the softening law (5.1) describes (E^∞ ≤ E⁰): a curve that
+    /// stiffens (a toe, tubes engaging one after another) drives the fit to E^∞ > E⁰ with ε₀
+    /// far beyond the data, where E⁰, E^∞ and ε₀ no longer mean an initial modulus, a
+    /// large-strain modulus and the end of a linear range (the fit's warnings say so).
+    pub fn softening_fit(&self) -> Option<&TangentLawFit> {
+        self.fit.as_ref().ok().filter(|f| f.law.e_inf <= f.law.e0)
+    }
+
     /// Threshold stress σ₀ = E⁰ε₀ of the fitted (5.1), GPa (see the module doc); `None` without
-    /// a fit or when the fit's constants give no finite product.
+    /// a fit, when the fit stiffens (no threshold: [`Self::softening_fit`]) or when the fit's
+    /// constants give no finite product.
     pub fn threshold_stress(&self) -> Option<f64> {
-        self.fit
-            .as_ref()
-            .ok()
+        self.softening_fit()
             .map(|f| f.law.e0 * f.law.eps0)
             .filter(|s| s.is_finite())
     }
@@ -191,6 +198,21 @@ mod tests {
         let stress = strain.iter().map(|&e| law.stress(e)).collect();
         let a = CurveAnalysis::new(Branch { strain, stress }, None);
         assert!(a.fit_warnings().is_empty(), "{:?}", a.fit_warnings());
+    }
+
+    /// A toe: the stress rises slowly, then faster as the shorter tubes reach the platen
+    /// (σ = aε + bε², a 9-tube curve with a 10 % length spread looks like this). The fit
+    /// stiffens, so there is no threshold, and the constants are flagged as not the law's.
+    #[test]
+    fn a_toe_that_stiffens_has_no_threshold() {
+        let strain: Vec<f64> = (0..=30).map(|k| 0.01 * k as f64).collect();
+        let stress = strain.iter().map(|&e| 0.008 * e + 0.04 * e * e).collect();
+        let a = CurveAnalysis::new(Branch { strain, stress }, None);
+        let fit = a.fit.as_ref().unwrap();
+        assert!(fit.law.e_inf > fit.law.e0, "{:?}", fit.law);
+        assert!(a.softening_fit().is_none());
+        assert!(a.threshold_stress().is_none());
+        assert!(a.fit_warnings().iter().any(|w| w.contains("exceeds E0")));
     }
 
     #[test]

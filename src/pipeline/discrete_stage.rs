@@ -912,6 +912,26 @@ const ENSEMBLE_SCALARS: [(&str, &str); 15] = [
     ("turf_top_sd", "_nm"),
 ];
 
+/// The fitted (5.1) law's constants among a realisation's values.
+const LAW: [&str; 3] = ["tangent_e0_GPa", "tangent_e_inf_GPa", "tangent_eps0"];
+
+/// A realisation's values as the ensemble reduces them: the fitted law's constants only where
+/// the fit is the softening law (5.1) describes, E^∞ ≤ E⁰ ([`CurveAnalysis::softening_fit`]; σ₀
+/// is left out by the analysis itself). A stiffening fit's constants mean nothing as such and
+/// run to any size (E^∞ of 10⁵ GPa on a 9-tube curve with a long toe), so one of them would
+/// swamp the mean.
+fn law_if_softening(values: &BTreeMap<String, f64>) -> BTreeMap<String, f64> {
+    let mut v = values.clone();
+    if let (Some(e0), Some(e_inf)) = (v.get(LAW[0]), v.get(LAW[1])) {
+        if e_inf > e0 {
+            LAW.iter().for_each(|k| {
+                v.remove(*k);
+            });
+        }
+    }
+    v
+}
+
 /// The ensemble's mean stress–strain curve along the common path, every step.
 pub const ENSEMBLE_CSV: &str = "discrete_ensemble.csv";
 /// The ensemble's mean loading curve against the strain from each turf's mean top.
@@ -964,7 +984,11 @@ fn ensemble_output(
         .map(|(base, unit)| format!("{base}{unit}"))
         .collect();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
-    let scalars = ensemble::reduce_values(&names, finished.iter().map(|f| &f.values));
+    let members: Vec<BTreeMap<String, f64>> = finished
+        .iter()
+        .map(|f| law_if_softening(&f.values))
+        .collect();
+    let scalars = ensemble::reduce_values(&names, members.iter());
 
     let mut out = StageOutput {
         warnings: finished.iter().flat_map(|f| f.warnings.clone()).collect(),
@@ -1006,6 +1030,18 @@ fn ensemble_output(
         realisations,
     }));
     let mean_analysis = CurveAnalysis::new(mean_loading, mean_unloading);
+    let stiffening = finished
+        .iter()
+        .zip(&members)
+        .filter(|(f, m)| f.values.contains_key(LAW[0]) && !m.contains_key(LAW[0]))
+        .count();
+    if stiffening > 0 {
+        out.warnings.push(format!(
+            "{stiffening} of {} realisations' tangent-law (5.1) fits stiffen (Einf > E0: their \
+             curves rise late); the ensemble's E0, Einf, eps0 and sigma0 are those of the others",
+            finished.len()
+        ));
+    }
     let mean_warnings = mean_analysis.fit_warnings().into_iter();
     out.warnings
         .extend(mean_warnings.map(|w| format!("mean curve of the realisations: {w}")));
@@ -1496,6 +1532,25 @@ mod tests {
             },
             cost: Default::default(),
         }
+    }
+
+    /// A realisation whose (5.1) fit stiffens gives the ensemble no law constants; a softening
+    /// one gives all three; the other values pass either way.
+    #[test]
+    fn the_ensemble_reduces_only_softening_laws() {
+        let values = |e0: f64, e_inf: f64| {
+            BTreeMap::from([
+                (LAW[0].to_string(), e0),
+                (LAW[1].to_string(), e_inf),
+                (LAW[2].to_string(), 0.05),
+                ("peak_stress_GPa".to_string(), 0.004),
+            ])
+        };
+        let soft = law_if_softening(&values(0.03, 0.001));
+        assert_eq!(soft, values(0.03, 0.001));
+        let stiff = law_if_softening(&values(0.008, 6e5));
+        assert!(LAW.iter().all(|k| !stiff.contains_key(*k)));
+        assert_eq!(stiff.get("peak_stress_GPa"), Some(&0.004));
     }
 
     /// Squeezed contacts (a few tenths of a nanometre inside the wall) pass; an overlap beyond
