@@ -13,15 +13,17 @@ import sys
 
 
 def mpa(values, key):
-    """Mean [low, high] of an ensemble value in GPa, printed in MPa."""
+    """Mean [low, high] of an ensemble value in GPa, printed in MPa, with the number of
+    realisations it is over when that is fewer than finished (the fitted law's constants are
+    reduced over the realisations whose fit softens)."""
     m = values.get(f"ensemble_{key}_mean_GPa")
     lo = values.get(f"ensemble_{key}_ci95_low_GPa")
     hi = values.get(f"ensemble_{key}_ci95_high_GPa")
+    n = values.get(f"ensemble_{key}_n", 0)
     if m is None:
         return "—"
-    if lo is None:
-        return f"{1e3 * m:.3g}"
-    return f"{1e3 * m:.3g} [{1e3 * lo:.3g}, {1e3 * hi:.3g}]"
+    text = f"{1e3 * m:.3g}" if lo is None else f"{1e3 * m:.3g} [{1e3 * lo:.3g}, {1e3 * hi:.3g}]"
+    return text if n >= values["realisations_finished"] else f"{text} ({n:.0f})"
 
 
 def at_mean_top(path, targets):

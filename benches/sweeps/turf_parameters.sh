@@ -39,10 +39,10 @@ waviness_10nm      1e10 2   0.05 1   0   0.1  10  0
 straight           1e10 2   0.05 1   0   0.03 10  0
 straight_spread_0.01 1e10 2 0.01 1   0   0.03 10  0
 collective         1e10 2   0.05 1   0.1 0.02 50  0.8
-collective_3e10    3e10 2   0.05 1   0.1 0.02 50  0.8
-collective_5e10    5e10 2   0.05 1   0.1 0.02 50  0.8
 short_uniform      1e10 0.5 0.01 1   0   0.1  50  0
-short_uniform_3e10 3e10 0.5 0.01 1   0.1 0.02 50  0.8
+short_collective   1e10 0.5 0.01 1   0.1 0.02 50  0.8
+short_collective_2e10 2e10 0.5 0.01 1 0.1 0.02 50 0.8
+short_collective_3e10 3e10 0.5 0.01 1 0.1 0.02 50 0.8
 "
 want=" $* "
 labels=()
