@@ -13,7 +13,8 @@
 //! resolved scene in internal units), `derived`, `plan`, then either `stages` (one record per
 //! stage run: `stage`, `wall_time_s`, `evaluations`, `values`, `files`, `cached`,
 //! `cache_key` for a cached stage, and `warnings` when the stage has any) or, for a `[sweep]`,
-//! `sweep` (`key` and one entry per value with its own `derived` and `stages`), and `error`
+//! `sweep` (`key`, one entry per value with its own `value_internal`, `derived` and `stages`,
+//! and `files`: `sweep.csv` and the plots across the points, [`sweep_table`]), and `error`
 //! when the run stopped early (`complete` says whether every stage ran); `stale_files` lists
 //! files an earlier run into the same folder wrote and this one did not (reported on the
 //! terminal too, never deleted).
@@ -39,6 +40,7 @@ pub mod items;
 pub mod mpi;
 mod rve_stage;
 pub mod shard;
+mod sweep_table;
 mod theory_stage;
 mod turf_setup;
 pub use turf_setup::scene_turf;
@@ -214,8 +216,12 @@ const UNITS: Units = Units {
 /// One swept value and what ran for it.
 #[derive(Debug, Clone, Serialize)]
 pub struct PointSummary {
-    /// the swept key's value
+    /// the swept key's value, as written
     pub value: toml::Value,
+    /// the swept key's value in internal units (the point's resolved number; `None` for a
+    /// value that is not a number)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub value_internal: Option<f64>,
     /// the point's sub-folder, relative to the output folder
     pub dir: String,
     /// the point's derived numbers
@@ -231,6 +237,9 @@ pub struct SweepSummary {
     pub key: String,
     /// one entry per value run
     pub points: Vec<PointSummary>,
+    /// the table across the points and its plots ([`sweep_table`]), written at the end
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub files: Vec<String>,
 }
 
 /// The content of `summary.json`.
@@ -346,6 +355,7 @@ fn new_summary(loaded: &Loaded, out_dir: &Path) -> Result<Summary, ReportError> 
         sweep: base.scene.sweep.as_ref().map(|s| SweepSummary {
             key: s.key.clone(),
             points: Vec::new(),
+            files: Vec::new(),
         }),
         complete: false,
         error: None,
@@ -370,6 +380,10 @@ fn finish(
     earlier: &BTreeSet<String>,
     out_dir: &Path,
 ) -> Result<(), ReportError> {
+    let files = sweep_table::write(summary, out_dir);
+    if let Some(sw) = summary.sweep.as_mut() {
+        sw.files = files;
+    }
     summary.stale_files = stale_files(earlier, summary, out_dir);
     if !summary.stale_files.is_empty() {
         say(
@@ -392,6 +406,8 @@ fn finish(
 pub struct Point<'a> {
     /// the point's index (0 without a sweep)
     pub index: usize,
+    /// the swept key (empty without a sweep; the point's own scene no longer has it)
+    pub key: &'a str,
     /// the swept value (`None` without a sweep)
     pub value: Option<&'a toml::Value>,
     /// the point's resolved scene
@@ -416,10 +432,21 @@ impl Point<'_> {
     fn entry(&self) -> Option<PointSummary> {
         self.value.map(|v| PointSummary {
             value: v.clone(),
+            value_internal: self.resolved_value(),
             dir: self.rel.clone(),
             derived: self.scene.derived.clone(),
             stages: Vec::new(),
         })
+    }
+
+    /// The swept key's number in the point's resolved scene (internal units), found by the
+    /// key's dotted path in the scene as `summary.json` writes it.
+    fn resolved_value(&self) -> Option<f64> {
+        let scene = serde_json::to_value(&self.scene.scene).ok()?;
+        self.key
+            .split('.')
+            .try_fold(&scene, |v, part| v.get(part))?
+            .as_f64()
     }
 }
 
@@ -428,14 +455,22 @@ pub fn points<'a>(loaded: &'a Loaded, out_dir: &Path) -> Vec<Point<'a>> {
     if loaded.sweep.is_empty() {
         return vec![Point {
             index: 0,
+            key: "",
             value: None,
             scene: &loaded.base,
             root: out_dir.to_path_buf(),
             rel: String::new(),
         }];
     }
+    let key = loaded
+        .base
+        .scene
+        .sweep
+        .as_ref()
+        .map_or("", |s| s.key.as_str());
     let point = |(index, p): (usize, &'a crate::scene::SweepPoint)| Point {
         index,
+        key,
         value: Some(&p.value),
         scene: &p.scene,
         root: out_dir.to_path_buf(),
@@ -460,8 +495,7 @@ fn run_point(
     runner: &mut Runner,
     after: &mut AfterStage,
 ) -> Result<(Vec<StageRecord>, Option<StageError>), ReportError> {
-    let (scene, dir) = (point.scene, point.dir());
-    let key = scene.scene.sweep.as_ref().map_or("", |s| s.key.as_str());
+    let (scene, dir, key) = (point.scene, point.dir(), point.key);
     let mut done: Vec<StageRecord> = Vec::new();
     let mut handed: Vec<Handoff> = Vec::new();
     for planned in &scene.plan.stages {
@@ -504,7 +538,8 @@ fn run_point(
 }
 
 /// The files a `summary.json` lists (each stage's `files`, a sweep point's under its `dir`,
-/// and the `stale_files` it reported in turn), relative to the output folder.
+/// the sweep's table and plots, and the `stale_files` it reported in turn), relative to the
+/// output folder.
 fn listed_files(summary: &serde_json::Value) -> BTreeSet<String> {
     let stage_files = |stages: &serde_json::Value, dir: &str| -> Vec<String> {
         let files = stages.as_array().into_iter().flatten().flat_map(|s| {
@@ -525,6 +560,8 @@ fn listed_files(summary: &serde_json::Value) -> BTreeSet<String> {
     for p in summary["sweep"]["points"].as_array().into_iter().flatten() {
         all.extend(stage_files(&p["stages"], p["dir"].as_str().unwrap_or("")));
     }
+    let across = summary["sweep"]["files"].as_array().into_iter().flatten();
+    all.extend(across.filter_map(|f| f.as_str()).map(str::to_string));
     let stale = summary["stale_files"].as_array().into_iter().flatten();
     all.extend(stale.filter_map(|f| f.as_str()).map(str::to_string));
     all

@@ -122,7 +122,11 @@ fn collect_csv(root: &Path, dir: &Path, out: &mut BTreeMap<String, String>) {
 fn without_timing(text: &str) -> String {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let keep: Vec<bool> = header.iter().map(|h| !TIMING_COLUMNS.contains(h)).collect();
+    // the sweep's table carries each stage's wall times as `<stage>.wall_time_*`
+    let keep: Vec<bool> = header
+        .iter()
+        .map(|h| !TIMING_COLUMNS.contains(h) && !h.contains(".wall_time"))
+        .collect();
     let row = |line: &str| {
         let fields = line.split(',').zip(&keep).filter(|(_, k)| **k);
         fields.map(|(f, _)| f).collect::<Vec<_>>().join(",")
@@ -179,6 +183,29 @@ fn an_ensemble_sweep_gives_the_same_numbers_serially_and_as_two_merged_shards() 
     assert!(a
         .1
         .contains_key("sweep_003/realisations/r003/stress_strain.csv"));
+    // the table across the points: the swept value and each point's ensemble values, in both
+    // trees alike (compared with the other CSV files above)
+    let table = &a.1["sweep.csv"];
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let column = |name: &str| -> Vec<f64> {
+        let i = header.iter().position(|h| *h == name);
+        let i = i.unwrap_or_else(|| panic!("no column {name} in {header:?}"));
+        let rows = table.lines().skip(1);
+        rows.map(|l| l.split(',').nth(i).unwrap().parse().unwrap())
+            .collect()
+    };
+    assert_eq!(column("compression.to"), vec![0.01, 0.02, 0.03, 0.04]);
+    let summary = json(&merged.join("summary.json"));
+    let peaks: Vec<f64> = (0..4)
+        .map(|p| {
+            summary["sweep"]["points"][p]["stages"][0]["values"]["ensemble_peak_stress_mean_GPa"]
+                .as_f64()
+                .unwrap()
+        })
+        .collect();
+    assert_eq!(column("discrete.ensemble_peak_stress_mean_GPa"), peaks);
+    let files = summary["sweep"]["files"].as_array().unwrap();
+    assert!(files.iter().any(|f| f == "sweep.csv"), "{files:?}");
     std::fs::remove_dir_all(dir).ok();
 }
 
