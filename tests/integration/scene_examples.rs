@@ -30,6 +30,7 @@ fn every_scene_in_the_folder_loads_and_is_tested_here() {
         "turf_compression.toml",
         "turf_indent.toml",
         "turf_rve.toml",
+        "turf_short_dense.toml",
         "turf_sphere.toml",
     ];
     let mut found: Vec<String> = std::fs::read_dir(scenes_dir())
@@ -174,6 +175,21 @@ fn turf_rve_is_discrete_only_in_either_mode() {
         shear.base.scene.compression.map(|k| k.mode),
         Some(turf::scene::compression::Mode::Shear)
     );
+}
+
+/// The turf whose tubes give a card like the seed's: short, level, dense, grown collectively
+/// (the only way the generator grows them this dense), compressed and homogenised.
+#[test]
+fn turf_short_dense_is_compressed_and_homogenised() {
+    assert_eq!(
+        stages("turf_short_dense.toml"),
+        [Stage::Discrete, Stage::Homogenize]
+    );
+    let l = load(&scenes_dir().join("turf_short_dense.toml"), &[]).unwrap();
+    let turf = l.base.scene.turf.as_ref().unwrap();
+    // 2e10 /cm² in a 353.6 nm box: 25 tubes
+    assert_eq!(l.base.derived.tube_count, Some(25.0));
+    assert_eq!(turf.realisations, 4);
 }
 
 #[test]
