@@ -32,10 +32,7 @@ fn point_values(sweep: &SweepSummary) -> Vec<BTreeMap<String, f64>> {
             p.stages
                 .iter()
                 .flat_map(|s| {
-                    let stage = serde_json::to_value(s.stage)
-                        .ok()
-                        .and_then(|v| v.as_str().map(str::to_string))
-                        .unwrap_or_default();
+                    let stage = s.stage.name();
                     s.values
                         .iter()
                         .map(move |(k, v)| (format!("{stage}.{k}"), *v))
@@ -45,12 +42,11 @@ fn point_values(sweep: &SweepSummary) -> Vec<BTreeMap<String, f64>> {
         .collect()
 }
 
-/// The columns every point has: the swept value (its internal number, else the point's
-/// index), then each `<stage>.<name>` that every point reports.
-fn table(sweep: &SweepSummary) -> Table {
+/// The columns every point has: the swept value `x` ([`abscissa`]), then each
+/// `<stage>.<name>` that every point reports.
+fn table(sweep: &SweepSummary, x: &(String, Vec<f64>)) -> Table {
     let values = point_values(sweep);
-    let x = abscissa(sweep);
-    let mut t = Table::new().column(&x.0, x.1);
+    let mut t = Table::new().column(&x.0, x.1.clone());
     if let Some((first, rest)) = values.split_first() {
         for name in first
             .keys()
@@ -84,7 +80,8 @@ pub fn write(summary: &Summary, out_dir: &Path) -> Vec<String> {
     if sweep.points.is_empty() {
         return Vec::new();
     }
-    let t = table(sweep);
+    let x = abscissa(sweep);
+    let t = table(sweep, &x);
     let mut files = Vec::new();
     match t.write(&out_dir.join(SWEEP_CSV)) {
         Ok(()) => files.push(SWEEP_CSV.to_string()),
@@ -93,9 +90,8 @@ pub fn write(summary: &Summary, out_dir: &Path) -> Vec<String> {
     if summary.scene["output"]["plots"].as_bool() == Some(false) {
         return files;
     }
-    let x = abscissa(sweep);
     let mut warnings = Vec::new();
-    for (stage, name, plot) in plots(&t, &x) {
+    for (stage, name, plot) in plots(sweep, &t, &x) {
         let stem = format!("sweep_{stage}_{name}");
         files.extend(plot.write_or_warn(&out_dir.join("plots"), &stem, "plots", &mut warnings));
     }
@@ -105,12 +101,12 @@ pub fn write(summary: &Summary, out_dir: &Path) -> Vec<String> {
     files
 }
 
-/// One plot per headline value every point has, per stage: the value against the swept one,
-/// with the ensemble's mean and band when every point has them.
-fn plots(t: &Table, x: &(String, Vec<f64>)) -> Vec<(String, String, Plot)> {
-    let stages = ["discrete", "continuum", "halfspace", "theory", "homogenize"];
+/// One plot per headline value every point has, per stage of the first point: the value
+/// against the swept one, with the ensemble's mean and band when every point has them.
+fn plots(sweep: &SweepSummary, t: &Table, x: &(String, Vec<f64>)) -> Vec<(String, String, Plot)> {
+    let stages = sweep.points.first().map_or(&[][..], |p| &p.stages[..]);
     let mut out = Vec::new();
-    for stage in stages {
+    for stage in stages.iter().map(|s| s.stage.name()) {
         for (base, unit) in HEADLINE {
             let col = |name: &str| t.get(&format!("{stage}.{name}")).map(<[f64]>::to_vec);
             let mean = col(&format!("ensemble_{base}_mean{unit}"));
@@ -180,15 +176,15 @@ mod tests {
             ],
             files: Vec::new(),
         };
-        let t = table(&sweep);
+        let x = abscissa(&sweep);
+        let t = table(&sweep, &x);
         assert_eq!(t.get("turf.vdw.gamma_line"), Some(&[0.1, 1.0, 10.0][..]));
         assert_eq!(
             t.get("discrete.peak_stress_GPa"),
             Some(&[0.004, 0.005, 0.003][..])
         );
         assert!(t.get("discrete.tangent_e0_GPa").is_none());
-        let x = abscissa(&sweep);
-        let drawn: Vec<String> = plots(&t, &x).into_iter().map(|p| p.1).collect();
+        let drawn: Vec<String> = plots(&sweep, &t, &x).into_iter().map(|p| p.1).collect();
         assert_eq!(drawn, vec!["peak_stress".to_string()]);
         // a point without a number for its value: the index stands in
         let mut other = sweep.clone();
