@@ -187,8 +187,8 @@ fn turf_short_dense_is_compressed_and_homogenised() {
     );
     let l = load(&scenes_dir().join("turf_short_dense.toml"), &[]).unwrap();
     let turf = l.base.scene.turf.as_ref().unwrap();
-    // 2e10 /cm² in a 353.6 nm box: 25 tubes
-    assert_eq!(l.base.derived.tube_count, Some(25.0));
+    // 2e10 /cm² in a 707.1 nm box: 100 tubes, this turf's RVE
+    assert_eq!(l.base.derived.tube_count, Some(100.0));
     assert_eq!(turf.realisations, 4);
 }
 
