@@ -128,7 +128,7 @@ impl CurveAnalysis {
     /// far beyond the data, where E⁰, E^∞ and ε₀ no longer mean an initial modulus, a
     /// large-strain modulus and the end of a linear range (the fit's warnings say so).
     pub fn softening_fit(&self) -> Option<&TangentLawFit> {
-        self.fit.as_ref().ok().filter(|f| f.law.e_inf <= f.law.e0)
+        self.fit.as_ref().ok().filter(|f| f.law.softens())
     }
 
     /// Threshold stress σ₀ = E⁰ε₀ of the fitted (5.1), GPa (see the module doc); `None` without

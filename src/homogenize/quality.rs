@@ -51,7 +51,7 @@ pub fn misfit_warning(what: &str, rms: f64, max: Option<f64>) -> Option<String> 
 pub fn law_warnings(law: &TangentLaw, strain: &[f64], stress: &[f64], fitted: bool) -> Vec<String> {
     let mut w = Vec::new();
     let mpa = |x: f64| 1e3 * x;
-    if law.e_inf > law.e0 {
+    if !law.softens() {
         w.push(format!(
             "tangent law: Einf = {:.4} MPa exceeds E0 = {:.4} MPa, a tangent that stiffens with \
              strain — the opposite of the turf's softening law (5.1); E0 and eps0 no longer mean \

@@ -40,6 +40,13 @@ pub enum TangentLawError {
 }
 
 impl TangentLaw {
+    /// Whether the law softens, E^∞ ≤ E⁰, as (5.1) describes the turf: the tangent falls from
+    /// E⁰ towards E^∞. A fit that stiffens instead (a toe) has constants that do not mean an
+    /// initial modulus, a large-strain modulus and the end of a linear range.
+    pub fn softens(&self) -> bool {
+        self.e_inf <= self.e0
+    }
+
     /// Build, checking E⁰ > 0, E^∞ ≥ 0, ε₀ > 0, all finite.
     pub fn new(e0: f64, e_inf: f64, eps0: f64) -> Result<Self, TangentLawError> {
         if !(e0.is_finite() && e_inf.is_finite() && eps0.is_finite()) {

@@ -51,6 +51,7 @@ use crate::discrete::turf::Turf;
 use crate::discrete::vdw::VdwParams;
 use crate::discrete::vdw_term::TubeLayout;
 use crate::homogenize::curve_analysis::{Branch, CurveAnalysis};
+use crate::homogenize::tangent_law::TangentLaw;
 use crate::numerics::interpolate;
 use crate::report::csv::Table;
 use crate::report::plot::{Plot, Series};
@@ -922,8 +923,9 @@ const LAW: [&str; 3] = ["tangent_e0_GPa", "tangent_e_inf_GPa", "tangent_eps0"];
 /// swamp the mean.
 fn law_if_softening(values: &BTreeMap<String, f64>) -> BTreeMap<String, f64> {
     let mut v = values.clone();
-    if let (Some(e0), Some(e_inf)) = (v.get(LAW[0]), v.get(LAW[1])) {
-        if e_inf > e0 {
+    let law = |k: usize| v.get(LAW[k]).copied();
+    if let (Some(e0), Some(e_inf), Some(eps0)) = (law(0), law(1), law(2)) {
+        if !(TangentLaw { e0, e_inf, eps0 }).softens() {
             LAW.iter().for_each(|k| {
                 v.remove(*k);
             });
