@@ -35,6 +35,9 @@
 //! Quasi-statics by mass scaling, as in dynamic relaxation: with rapier's step dt, each body
 //! gets the rotational inertia that puts its stiffest bending spring (≈ 16K/ℓ) at
 //! ω dt = `stability`, the mass m = 4I/ℓ², and viscous damping.
+//!
+//! Scenes use it through `[turf.packing]` (one target density, the default settings:
+//! `pipeline::turf_setup`); `examples/rapier_packing.rs` exposes every setting.
 
 use super::broadphase::PeriodicBox;
 use super::rod::RodStiffness;

@@ -35,7 +35,7 @@ use super::handoff::{
     self, Curves, Filed, Handoff, ENSEMBLE_LOADING_CSV, ENSEMBLE_UNLOADING_CSV, LOADING_CSV,
     UNLOADING_CSV,
 };
-use super::turf_setup::{failed, static_solver, turf_system, vdw_params};
+use super::turf_setup::{failed, static_solver, turf_system, vdw_params, Packed};
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::checkpoint::{Checkpoint, SavedRelaxation};
 use crate::discrete::drive::{
@@ -361,7 +361,8 @@ impl Finished {
 /// that fails part-way writes the steps it reached (`stress_strain.csv`) before the error.
 fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError> {
     let (s, t, k) = (job.scene, job.turf, job.compression);
-    let (turf, mut sys, vdw) = turf_system(s, t, k, job.seed)?;
+    let built = turf_system(s, t, k, job.seed)?;
+    let (turf, mut sys, vdw) = (built.turf, built.sys, built.vdw);
     let solver = static_solver(k);
     let mut x = turf.coordinates();
     let fingerprint = job.fingerprint()?;
@@ -385,6 +386,9 @@ fn run_realisation(job: &Job, done: &AtomicUsize) -> Result<Finished, StageError
         (&run.records, run.tops),
     );
     analysis_values(&mut values, &analysis, &run.records[k.steps]);
+    for (name, v) in built.packed.iter().flat_map(Packed::values) {
+        values.insert(name.into(), v);
+    }
     let mut warnings = written.warnings;
     warnings.extend(interpenetration_warning(&run.records));
     warnings.extend(pull_off_values(

@@ -14,7 +14,7 @@
 //! widen it; a smooth path gives the trapezoid's O(Δε²)).
 
 use super::ensemble;
-use super::turf_setup::{failed, static_solver, turf_system};
+use super::turf_setup::{failed, static_solver, turf_system, Packed};
 use super::{StageContext, StageError, StageOutput};
 use crate::discrete::drive::CompressionParams;
 use crate::discrete::model::relax;
@@ -50,7 +50,8 @@ pub(super) fn run(
         )));
     }
     let seed = ensemble::realisation_seed(s.scene.seed, 0);
-    let (turf, mut sys, _) = turf_system(s, t, k, seed)?;
+    let built = turf_system(s, t, k, seed)?;
+    let (turf, mut sys) = (built.turf, built.sys);
     let solver = static_solver(k);
     let mut x = turf.coordinates();
     let say = |what: String| {
@@ -109,6 +110,9 @@ pub(super) fn run(
         put("min_gap_nm", closest);
     }
     put("volume_nm3", volume);
+    for (name, v) in built.packed.iter().flat_map(Packed::values) {
+        put(name, v);
+    }
     put(
         "wall_time_s",
         relaxed.info.cost.seconds + records.iter().map(|r| r.cost.seconds).sum::<f64>(),

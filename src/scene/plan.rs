@@ -354,8 +354,12 @@ fn plan_discrete(scene: &Scene, stages: &mut Vec<PlannedStage>, d: &mut Derived,
                 Some(k) => stages.push(PlannedStage {
                     stage: Stage::Discrete,
                     why: format!(
-                        "[turf] + [compression]: {} tubes {} {}{}{}",
+                        "[turf] + [compression]: {} tubes{} {} {}{}{}",
                         t.tube_count(),
+                        t.packing.as_ref().map_or(String::new(), |p| format!(
+                            " packed to {:.3e} /cm^2 (rigid-body chains)",
+                            p.density.0 * 1e14
+                        )),
                         match k.mode {
                             crate::scene::compression::Mode::Axial => "compressed to strain",
                             crate::scene::compression::Mode::Lateral =>

@@ -144,6 +144,60 @@ impl Vdw {
     }
 }
 
+/// `[turf.packing]`: the grown turf squeezed in x and y on rigid-body capsule chains
+/// ([`crate::discrete::rapier_packing`], cargo feature `rapier`) from `turf.density` to a
+/// higher density, where the growth would jam (overlap-free sequential growth of the
+/// quickstart's tubes stops near 1.1 × 10¹⁰ cm⁻²; the packing reaches 3.8 × 10¹⁰ on 100 of
+/// them, docs/benchmarks.md "rapier3d"). The box shrinks by the same factor in x and y, the
+/// tubes bend around each other without adhesion, and the packed shape is the tubes' natural
+/// (stress-free) shape for the relaxation that follows: a dense turf as grown, not a grown turf
+/// compressed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Packing {
+    /// Areal density to pack to, 1/nm² (e.g. `"3e10 1/cm^2"`). Required, above `turf.density`.
+    pub density: ArealDensity,
+}
+
+impl Packing {
+    fn check(&self, c: &mut Checker, grown: f64, diameter: f64, periodic: bool) {
+        c.positive("turf.packing.density", self.density);
+        if !cfg!(feature = "rapier") {
+            c.bad(
+                "turf.packing",
+                "needs turf built with the cargo feature `rapier` (`cargo build --release \
+                 --features rapier`); this binary was built without it",
+            );
+        }
+        if !periodic {
+            c.bad(
+                "turf.packing",
+                "needs a periodic box (turf.periodic = true): the box is what shrinks",
+            );
+        }
+        let d = self.density.0;
+        if d > 0.0 && d <= grown {
+            c.bad(
+                "turf.packing.density",
+                format!(
+                    "{d} /nm^2 is not allowed: must exceed turf.density ({grown} /nm^2), the \
+                     density the tubes are grown at"
+                ),
+            );
+        }
+        if d > 0.0 && 1.0 / d.sqrt() <= diameter {
+            c.bad(
+                "turf.packing.density",
+                format!(
+                    "{d} /nm^2 is not allowed: the mean spacing {:.3} nm is less than a tube \
+                     diameter {diameter} nm",
+                    1.0 / d.sqrt()
+                ),
+            );
+        }
+    }
+}
+
 /// `[turf]`: a generated turf.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -163,6 +217,9 @@ pub struct Turf {
     /// Tube–tube contact; absent: none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vdw: Option<Vdw>,
+    /// The grown turf packed to a higher density before it is relaxed; absent: as grown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub packing: Option<Packing>,
     /// Realisations of the turf, an ensemble: each is generated with its own seed
     /// (realisation 0 with `scene.seed` itself, realisation k with a seed derived from it,
     /// [`crate::pipeline::ensemble::realisation_seed`]) and compressed; the discrete stage
@@ -296,6 +353,9 @@ impl Turf {
         }
         if let Some(v) = &mut self.vdw {
             v.check(c, "turf.vdw");
+        }
+        if let Some(p) = &self.packing {
+            p.check(c, self.density.0, 2.0 * self.tube.r_o.0, self.periodic);
         }
         if !(1..=MAX_REALISATIONS).contains(&self.realisations) {
             c.bad("turf.realisations", realisations_refused(self.realisations));

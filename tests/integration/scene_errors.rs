@@ -747,3 +747,34 @@ fn the_compression_mode_is_checked() {
         load_str(&text, Path::new("good.toml"), &[]).unwrap();
     }
 }
+
+#[test]
+fn a_packing_must_be_denser_than_the_growth_and_leave_room_for_the_tubes() {
+    let packed = |d: &str| {
+        TURF.replace(
+            "[compression]",
+            &format!("[turf.packing]\ndensity = \"{d}\"\n\n[compression]"),
+        )
+    };
+    let msg = error(&packed("0.5e10 1/cm^2"), &[]);
+    assert_has(
+        &msg,
+        &[
+            "bad.toml",
+            "turf.packing.density",
+            "must exceed turf.density",
+        ],
+    );
+    // 8e10 /cm²: a mean spacing of 35.4 nm for tubes 40 nm across
+    let msg = error(&packed("8e10 1/cm^2"), &[]);
+    assert_has(&msg, &["turf.packing.density", "less than a tube diameter"]);
+    let msg = error(&packed("3e10 1/cm^2"), &["turf.periodic=false"]);
+    assert_has(&msg, &["turf.packing", "needs a periodic box"]);
+    let sound = packed("3e10 1/cm^2");
+    if cfg!(feature = "rapier") {
+        load_str(&sound, Path::new("good.toml"), &[]).unwrap();
+    } else {
+        let msg = error(&sound, &[]);
+        assert_has(&msg, &["turf.packing", "cargo feature `rapier`"]);
+    }
+}
