@@ -204,7 +204,7 @@ impl Context<'_> {
         };
         self.set_keys
             .iter()
-            .any(|k| under(key, k) || (under(k, key) && self.original.line_of(key).is_none()))
+            .any(|k| under(key, k) || (under(k, key) && !self.original.has(key)))
     }
 
     fn resolve_doc(&self, doc: &toml::Table) -> Result<ResolvedScene, SceneError> {

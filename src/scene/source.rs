@@ -70,6 +70,11 @@ impl SourceMap {
             .map(|(p, _)| p.as_str())
     }
 
+    /// Whether `key` (a dotted path) is written in the text itself.
+    pub fn has(&self, key: &str) -> bool {
+        self.entries.iter().any(|(p, _, _)| p == key)
+    }
+
     /// The line where `key` (a dotted path) is written, if it is; else that of its closest
     /// written parent.
     pub fn line_of(&self, key: &str) -> Option<usize> {

@@ -770,6 +770,9 @@ fn a_packing_must_be_denser_than_the_growth_and_leave_room_for_the_tubes() {
     assert_has(&msg, &["turf.packing.density", "less than a tube diameter"]);
     let msg = error(&packed("3e10 1/cm^2"), &["turf.periodic=false"]);
     assert_has(&msg, &["turf.packing", "needs a periodic box"]);
+    // a table created by --set is named as coming from it, not by the line of [turf]
+    let msg = error(TURF, &["turf.packing.density=\"0.5e10 1/cm^2\""]);
+    assert_has(&msg, &["turf.packing.density (from --set)", "must exceed"]);
     let sound = packed("3e10 1/cm^2");
     if cfg!(feature = "rapier") {
         load_str(&sound, Path::new("good.toml"), &[]).unwrap();
