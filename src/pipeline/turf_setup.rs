@@ -153,16 +153,22 @@ fn pack(turf: &Turf, youngs: f64, density: f64) -> Result<(Turf, Packed), StageE
     let packing = pack_turf(turf, youngs, &p).map_err(|e| why(e.to_string()))?;
     let last = packing.states.into_iter().last();
     match (packing.stopped, last) {
-        (None, Some(st)) => Ok((
-            st.turf.clone(),
-            Packed {
+        (None, Some(st)) => {
+            // pack_turf refuses a turf without a periodic box, so the packed one has one
+            let box_x = st
+                .turf
+                .periodic
+                .lx
+                .ok_or_else(|| why("no periodic box".into()))?;
+            let packed = Packed {
                 density: st.density,
-                box_x: st.turf.periodic.lx.unwrap_or(f64::NAN),
+                box_x,
                 min_gap: st.min_gap,
                 steps: st.steps,
                 wall_s: st.wall_s,
-            },
-        )),
+            };
+            Ok((st.turf, packed))
+        }
         (stopped, last) => {
             let densest = last.map_or(String::from("none recorded"), |st| {
                 format!("{:.4e} /cm^2", st.density * 1e14)
