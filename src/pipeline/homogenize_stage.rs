@@ -8,7 +8,8 @@
 //! curve, and the same fit is repeated on every realisation's own curve to show how far the
 //! card's constants move from one turf to the next: the mean, 95 % interval, minimum and
 //! maximum of each constant ([`super::ensemble`]) in the summary (`card_*`),
-//! `homogenize/ensemble.json` and `homogenize/card_spread.csv`.
+//! `homogenize/ensemble.json` and `homogenize/card_spread.csv` (the term constants over the
+//! cards with the mean card's number of terms, E⁰ and the misfit over all).
 
 use super::ensemble;
 use super::handoff::{Compression, Curves, Filed, Handoff};
@@ -230,6 +231,67 @@ fn card_constants(out: &HomogenizeOutput) -> Vec<Constant> {
     c
 }
 
+/// The realisations' cards reduced constant by constant (the summary's `card_*` estimates,
+/// their JSON, the realisations with the mean card's number of terms, `card_spread.csv`).
+struct Reduced {
+    values: BTreeMap<String, f64>,
+    estimates: serde_json::Map<String, serde_json::Value>,
+    alike: Vec<usize>,
+    table: Table,
+}
+
+/// Reduce the realisations' `cards` over the realisations. A card that kept another number of
+/// terms than the mean card's `terms` (a degenerate term dropped in one realisation and not in
+/// another) numbers its terms differently: its μᵢ, αᵢ, βᵢ are not those of the others, so the
+/// spread of the term constants is over the cards with the mean card's count (the table's
+/// rows), that of E⁰ and the misfit over every card.
+fn reduce_cards(cards: &[(usize, Vec<Constant>)], terms: usize) -> Reduced {
+    let alike: Vec<&(usize, Vec<Constant>)> = cards
+        .iter()
+        .filter(|(_, c)| c.len() == constants_of(terms))
+        .collect();
+    let mut values = BTreeMap::from([
+        ("realisation_cards".to_string(), cards.len() as f64),
+        ("realisation_cards_alike".to_string(), alike.len() as f64),
+    ]);
+    let mut estimates = serde_json::Map::new();
+    let mut table = Table::new().column(
+        "realisation",
+        alike.iter().map(|(k, _)| *k as f64).collect(),
+    );
+    let template = alike.first().copied().or(cards.first()).map(|(_, c)| c);
+    for (i, (name, unit, _)) in template.into_iter().flatten().enumerate() {
+        let per_term = ["mu", "alpha", "beta"].iter().any(|p| name.starts_with(p));
+        let samples: Vec<f64> = if per_term {
+            alike.iter().map(|(_, c)| c[i].2).collect()
+        } else {
+            cards
+                .iter()
+                .filter_map(|(_, c)| c.iter().find(|x| &x.0 == name).map(|x| x.2))
+                .collect()
+        };
+        if let Some(e) = Estimate::of(&samples) {
+            ensemble::put_estimate(&mut values, &format!("card_{name}"), unit, &e);
+            estimates.insert(format!("{name}{unit}"), ensemble::estimate_json(&e));
+        }
+        table = table.column(
+            &format!("{name}{unit}"),
+            alike.iter().map(|(_, c)| c[i].2).collect(),
+        );
+    }
+    Reduced {
+        values,
+        estimates,
+        alike: alike.iter().map(|(k, _)| *k).collect(),
+        table,
+    }
+}
+
+/// How many constants [`card_constants`] lists for a card of `terms` terms.
+fn constants_of(terms: usize) -> usize {
+    2 + 3 * terms
+}
+
 /// Fit the card to every realisation's own curve (the branch the scene fits, of the
 /// realisations the discrete stage handed over in `compression`) and reduce each constant over
 /// the realisations. A realisation whose fit fails is named in `homogenize/ensemble.json` and
@@ -264,28 +326,13 @@ fn card_spread(
             Err(e) => failures.push(serde_json::json!({"realisation": k, "error": e})),
         }
     }
-    let mut values = BTreeMap::from([
-        ("realisation_cards".to_string(), cards.len() as f64),
-        (
-            "realisation_cards_failed".to_string(),
-            failures.len() as f64,
-        ),
-    ]);
-    let mut estimates = serde_json::Map::new();
-    let mut table = Table::new().column(
-        "realisation",
-        cards.iter().map(|(k, _)| *k as f64).collect(),
+    let reduced = reduce_cards(&cards, mean.terms_used);
+    let mut values = reduced.values;
+    values.insert(
+        "realisation_cards_failed".to_string(),
+        failures.len() as f64,
     );
-    if let Some((_, first)) = cards.first() {
-        for (i, (name, unit, _)) in first.iter().enumerate() {
-            let samples: Vec<f64> = cards.iter().map(|(_, c)| c[i].2).collect();
-            if let Some(e) = Estimate::of(&samples) {
-                ensemble::put_estimate(&mut values, &format!("card_{name}"), unit, &e);
-                estimates.insert(format!("{name}{unit}"), ensemble::estimate_json(&e));
-            }
-            table = table.column(&format!("{name}{unit}"), samples);
-        }
-    }
+    let (estimates, alike, table) = (reduced.estimates, reduced.alike, reduced.table);
     let json = serde_json::json!({
         "mean_card": {
             "fitted_to": "the mean curve of the realisations",
@@ -297,6 +344,9 @@ fn card_spread(
             "confidence_interval": ensemble::INTERVAL_DEFINITION,
             "constants": estimates,
             "fitted": cards.len(),
+            "with_the_mean_cards_terms": alike,
+            "term_constants_over": "the cards with the mean card's number of terms (listed); \
+                youngs0 and fit_rms_rel over every fitted card",
             "failed": failures,
         },
     });
@@ -314,4 +364,47 @@ fn card_spread(
             "homogenize/card_spread.csv".into(),
         ],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A card of `terms` terms, E⁰ = `e0`, term i of μ = e0/(2·terms), α = 10(i + 1), β = 0.
+    fn card(e0: f64, terms: usize, rms: f64) -> Vec<Constant> {
+        let mut c = vec![("youngs0".to_string(), "_GPa", e0)];
+        for i in 0..terms {
+            c.push((format!("mu{}", i + 1), "_GPa", e0 / (2.0 * terms as f64)));
+            c.push((format!("alpha{}", i + 1), "", 10.0 * (i + 1) as f64));
+            c.push((format!("beta{}", i + 1), "", 0.0));
+        }
+        c.push(("fit_rms_rel".to_string(), "", rms));
+        c
+    }
+
+    #[test]
+    fn cards_that_kept_other_term_counts_are_reduced_where_they_compare() {
+        // realisations 0 and 2 kept two terms like the mean card, realisation 1 dropped one
+        let cards = vec![
+            (0, card(0.02, 2, 0.05)),
+            (1, card(0.04, 1, 0.07)),
+            (2, card(0.03, 2, 0.06)),
+        ];
+        let r = reduce_cards(&cards, 2);
+        assert_eq!(r.alike, vec![0, 2]);
+        assert_eq!(r.values["realisation_cards"], 3.0);
+        assert_eq!(r.values["realisation_cards_alike"], 2.0);
+        // E⁰ and the misfit over all three, the terms over the two alike
+        assert_eq!(r.values["card_youngs0_n"], 3.0);
+        assert!((r.values["card_youngs0_mean_GPa"] - 0.03).abs() < 1e-15);
+        assert!((r.values["card_fit_rms_rel_mean"] - 0.06).abs() < 1e-15);
+        assert_eq!(r.values["card_mu2_n"], 2.0);
+        assert!((r.values["card_mu1_mean_GPa"] - 0.00625).abs() < 1e-15);
+        assert_eq!(r.values["card_alpha2_mean"], 20.0);
+        // when no card has the mean card's count the term constants have no spread
+        let r = reduce_cards(&cards, 3);
+        assert!(r.alike.is_empty());
+        assert_eq!(r.values["card_youngs0_n"], 3.0);
+        assert!(!r.values.keys().any(|k| k.starts_with("card_mu")));
+    }
 }
