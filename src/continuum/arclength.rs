@@ -70,7 +70,8 @@ pub enum ArcLengthError {
     },
     /// the corrector reached its iteration limit
     #[error(
-        "arc-length corrector: no convergence in {iterations} iterations (residuals {residuals:?})"
+        "arc-length corrector: no convergence in {iterations} iterations (residuals {})",
+        crate::numerics::newton::residual_history(residuals)
     )]
     NoConvergence {
         /// iterations done

@@ -86,11 +86,42 @@ pub struct NewtonInfo {
     pub backtracks: usize,
 }
 
+/// A residual history for a message: the whole list when it is short, else the first, the
+/// smallest (with its iteration) and the last — a failed solve of a thousand iterations must
+/// not write a thousand numbers into an error.
+pub fn residual_history(residuals: &[f64]) -> String {
+    const WHOLE: usize = 8;
+    if residuals.len() <= WHOLE {
+        let list: Vec<String> = residuals.iter().map(|r| format!("{r:.3e}")).collect();
+        return format!("[{}]", list.join(", "));
+    }
+    let (at, least) =
+        residuals.iter().enumerate().fold(
+            (0, f64::INFINITY),
+            |(k, m), (i, &r)| {
+                if r < m {
+                    (i, r)
+                } else {
+                    (k, m)
+                }
+            },
+        );
+    format!(
+        "{:.3e} at the start, smallest {least:.3e} at iteration {at}, {:.3e} at the last of {}",
+        residuals[0],
+        residuals[residuals.len() - 1],
+        residuals.len()
+    )
+}
+
 /// Why Newton failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum NewtonError<E> {
     /// the iteration limit was reached
-    #[error("no convergence in {iterations} iterations (residuals {residuals:?})")]
+    #[error(
+        "no convergence in {iterations} iterations (residuals {})",
+        residual_history(residuals)
+    )]
     NoConvergence {
         /// iterations done
         iterations: usize,
@@ -231,6 +262,23 @@ pub fn solve<P: NewtonProblem + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_long_residual_history_is_summarised_in_a_message() {
+        assert_eq!(residual_history(&[1.0, 0.5]), "[1.000e0, 5.000e-1]");
+        let mut r = vec![2.0, 1.0, 0.1];
+        r.extend(std::iter::repeat_n(0.3, 997));
+        let text = residual_history(&r);
+        assert_eq!(
+            text,
+            "2.000e0 at the start, smallest 1.000e-1 at iteration 2, 3.000e-1 at the last of 1000"
+        );
+        let e = NewtonError::<String>::NoConvergence {
+            iterations: 999,
+            residuals: r,
+        };
+        assert!(e.to_string().len() < 200, "{e}");
+    }
 
     /// Π = Σ (e^{x_i} − b_i x_i), minimum at x_i = ln b_i: a convex problem whose full Newton
     /// steps from far away overflow, solved with the default plug-ins and an Armijo merit.
