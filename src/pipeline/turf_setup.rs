@@ -290,42 +290,22 @@ mod tests {
     use crate::scene::load_str;
     use std::path::Path;
 
-    /// The quickstart's tubes, one turf of 9 in its 300 nm box at 10¹⁰ /cm², packed to
-    /// `density`; compressed by 2 % in two steps.
+    /// The quickstart's turf alone (its `[scene]`, `[turf]` and `[compression]`), one
+    /// realisation of 9 tubes in its 300 nm box at 10¹⁰ /cm², packed to `density`; compressed
+    /// by 2 % in two steps, no plots.
     fn packed_scene(density: &str) -> crate::scene::Loaded {
-        let text = format!(
-            r#"
-[scene]
-name = "packed"
-seed = 3
-[turf]
-density = "1e10 1/cm^2"
-box = ["300 nm", "300 nm"]
-[turf.tube]
-r_o = "20 nm"
-r_i = "17.3 nm"
-youngs = "0.4 TPa"
-segment = "200 nm"
-[turf.growth]
-length = "2 um"
-length_spread = 0.05
-tilt = 0.1
-waviness = "50 nm"
-wavelength = "1 um"
-[turf.vdw]
-gamma_line = "1 nN"
-[turf.packing]
-density = "{density}"
-[compression]
-to = 0.02
-steps = 2
-unload = false
-solver = "newton"
-[output]
-plots = false
-"#
-        );
-        load_str(&text, Path::new("packed.toml"), &[]).unwrap()
+        let mut doc: toml::Table = include_str!("../../scenes/quickstart.toml")
+            .parse()
+            .unwrap();
+        doc.retain(|k, _| matches!(&k[..], "scene" | "turf" | "compression"));
+        let sets = [
+            "turf.realisations=1".to_string(),
+            format!("turf.packing.density=\"{density}\""),
+            "compression.to=0.02".into(),
+            "compression.steps=2".into(),
+            "output.plots=false".into(),
+        ];
+        load_str(&doc.to_string(), Path::new("packed.toml"), &sets).unwrap()
     }
 
     #[test]
