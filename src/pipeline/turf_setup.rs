@@ -297,7 +297,7 @@ mod tests {
         let mut doc: toml::Table = include_str!("../../scenes/quickstart.toml")
             .parse()
             .unwrap();
-        doc.retain(|k, _| matches!(&k[..], "scene" | "turf" | "compression"));
+        doc.retain(|k, _| matches!(k, "scene" | "turf" | "compression"));
         let sets = [
             "turf.realisations=1".to_string(),
             format!("turf.packing.density=\"{density}\""),
