@@ -476,25 +476,24 @@ fn relaxed_start(
     if relaxed.state.min_gap < 0.0 {
         // a packed turf may start closer than the growth's clearance (the packing stops an
         // overlap only beyond its limit), so its remedy is a lower packing density
-        let remedy = if job.turf.packing.is_some() {
-            "the packing left them closer than the van der Waals gap and the relaxation pulled \
-             them through each other — lower turf.packing.density"
+        let (which, remedy) = if job.turf.packing.is_some() {
+            (
+                "packed",
+                "the packing left them closer than the van der Waals gap and the relaxation \
+                 pulled them through each other — lower turf.packing.density",
+            )
         } else {
-            "the generator grows the tubes clear of each other, so the relaxation moved them \
-             through each other — lower turf.growth.tilt, waviness or the density"
+            (
+                "generated",
+                "the generator grows the tubes clear of each other, so the relaxation moved \
+                 them through each other — lower turf.growth.tilt, waviness or the density",
+            )
         };
         return Err(failed(format!(
-            "the {} turf has interpenetrating tubes that the relaxation did not separate \
+            "the {which} turf has interpenetrating tubes that the relaxation did not separate \
              (smallest surface gap {:.3} nm; {} contacts, van der Waals energy {:.4e} aJ): \
              {remedy}",
-            if job.turf.packing.is_some() {
-                "packed"
-            } else {
-                "generated"
-            },
-            relaxed.state.min_gap,
-            relaxed.state.contacts,
-            relaxed.state.energy.vdw
+            relaxed.state.min_gap, relaxed.state.contacts, relaxed.state.energy.vdw
         )));
     }
     Ok((relaxed, resume))
