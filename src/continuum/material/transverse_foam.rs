@@ -97,9 +97,9 @@ impl Material for TransverseFoam {
             let k = 2.0 * f.mu / (f.alpha * f.alpha);
             let p = 0.5 * f.alpha;
             let ip = (p * ln_i4).exp();
-            r.energy += k * ((p * ln_i4).exp_m1() - p * ln_i4);
+            r.energy += k * crate::numerics::expm1_minus_x(p * ln_i4);
             // ψ′ = kp(I₄^(p−1) − 1/I₄), ψ″ = kp((p−1)I₄^(p−2) + 1/I₄²)
-            r.stress[1] += 2.0 * k * p * (ip - 1.0) / i4;
+            r.stress[1] += 2.0 * k * p * (p * ln_i4).exp_m1() / i4;
             r.tangent[1][1] += 4.0 * k * p * ((p - 1.0) * ip + 1.0) / (i4 * i4);
         }
         let mu_s = self.shear;
