@@ -16,8 +16,9 @@
 //! divided difference Γ₁₂ = (c₁^q − c₂^q)/(c₁ − c₂) evaluated as c₂^(q−1)·expm1(q ln r)/expm1(ln r),
 //! r = c₁/c₂ — accurate through the repeated-eigenvalue limit Γ → q c^(q−1), where the
 //! (arbitrary) eigenbasis no longer matters. The volumetric term is a function of J:
-//! S = Jψ′C⁻¹, 𝔺 = (Jψ′ + J²ψ″) C⁻¹⊗C⁻¹ − 2Jψ′ 𝕀_{C⁻¹}. The energy and stress of the two
-//! parts, each of order (2μ/α)·strain, cancel to order μ·strain²; they are summed combined,
+//! S = Jψ′C⁻¹, 𝔺 = (Jψ′ + J²ψ″) C⁻¹⊗C⁻¹ − 2Jψ′ 𝕀_{C⁻¹}. The two parts' energies, each of
+//! order (2μ/α)·strain, cancel to order μ·strain², and their stresses, each of order 2μ/α, to
+//! order μ·strain; they are summed combined,
 //! U = k[Σ f(p ln cₐ) + f(−αβ ln J)/β] with f(y) = eʸ − 1 − y ([`expm1_minus_x`]) and
 //! Sₐ = (2μ/α) J^(−αβ) expm1(p ln cₐ + αβ ln J)/cₐ in the principal basis, with
 //! ln cₐ = ln_1p(2eₐ), eₐ the principal values of E, and ln J = ½Σ ln cₐ: relative precision at
@@ -145,10 +146,10 @@ impl Material for Hyperfoam {
             let k = 2.0 * t.mu / (t.alpha * t.alpha);
             let p = 0.5 * t.alpha;
             let q = p - 1.0;
-            // The isotropic part k(Σ cₐ^p − 3) and the volumetric part (k/β)(J^(−αβ) − 1) are
-            // each of order (2μ/α)·strain and cancel to order μ·strain² (exactly so in uniaxial
-            // strain at β = 0): summed apart, a small α (a term at the fit's bound 0.01) loses
-            // log₁₀(2/α·1/strain) digits and the FE's residual stalls above its tolerance. With
+            // The isotropic part k(Σ cₐ^p − 3) and the volumetric part (k/β)(J^(−αβ) − 1) cancel
+            // to leading order (energies of order (2μ/α)·strain to μ·strain², stresses of order
+            // 2μ/α to μ·strain): summed apart, a small α (a term at the fit's bound 0.01) loses
+            // log₁₀(2/(α·strain)) digits and the FE's residual stalls above its tolerance. With
             // ln J = ½Σ ln cₐ they combine without cancellation, f(y) = eʸ − 1 − y:
             // U = k[Σ f(p ln cₐ) + f(x)/β], x = −αβ ln J (→ 0 as β → 0), and in the principal
             // basis Sₐ = (2μ/α) J^(−αβ) expm1(p ln cₐ + αβ ln J)/cₐ.
