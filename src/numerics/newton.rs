@@ -95,17 +95,12 @@ pub fn residual_history(residuals: &[f64]) -> String {
         let list: Vec<String> = residuals.iter().map(|r| format!("{r:.3e}")).collect();
         return format!("[{}]", list.join(", "));
     }
-    let (at, least) =
-        residuals.iter().enumerate().fold(
-            (0, f64::INFINITY),
-            |(k, m), (i, &r)| {
-                if r < m {
-                    (i, r)
-                } else {
-                    (k, m)
-                }
-            },
-        );
+    let (at, least) = residuals
+        .iter()
+        .copied()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or((0, residuals[0]));
     format!(
         "{:.3e} at the start, smallest {least:.3e} at iteration {at}, {:.3e} at the last of {}",
         residuals[0],

@@ -146,13 +146,8 @@ impl Material for Hyperfoam {
             let k = 2.0 * t.mu / (t.alpha * t.alpha);
             let p = 0.5 * t.alpha;
             let q = p - 1.0;
-            // The isotropic part k(Σ cₐ^p − 3) and the volumetric part (k/β)(J^(−αβ) − 1) cancel
-            // to leading order (energies of order (2μ/α)·strain to μ·strain², stresses of order
-            // 2μ/α to μ·strain): summed apart, a small α (a term at the fit's bound 0.01) loses
-            // log₁₀(2/(α·strain)) digits and the FE's residual stalls above its tolerance. With
-            // ln J = ½Σ ln cₐ they combine without cancellation, f(y) = eʸ − 1 − y:
-            // U = k[Σ f(p ln cₐ) + f(x)/β], x = −αβ ln J (→ 0 as β → 0), and in the principal
-            // basis Sₐ = (2μ/α) J^(−αβ) expm1(p ln cₐ + αβ ln J)/cₐ.
+            // isotropic and volumetric parts combined without cancellation (module doc):
+            // U = k[Σ f(p ln cₐ) + f(x)/β], x = −αβ ln J (f(x)/β → 0 as β → 0)
             let x_j = -t.alpha * t.beta * ln_j_principal;
             energy += k * ln_c.iter().map(|l| expm1_minus_x(p * l)).sum::<f64>();
             if t.beta != 0.0 {
@@ -284,9 +279,9 @@ mod tests {
         }
     }
 
-    /// A term at the fit's bound α = 0.01 (homogenize keeps such terms): its isotropic and
-    /// volumetric parts, each of size 2μ/α·strain, cancel to μ·strain; summed apart they left
-    /// the stress 10⁻⁸ off at a strain of 10⁻⁶ and the FE's residual stalled above its
+    /// A term at the fit's bound α = 0.01 (homogenize keeps such terms): the stresses of its
+    /// isotropic and volumetric parts, each of size 2μ/α, cancel to μ·strain; summed apart they
+    /// left the stress 10⁻⁸ off at a strain of 10⁻⁶ and the FE's residual stalled above its
     /// tolerance. The uniaxial stress (2μ/α)·expm1(α ln λ)/λ² is kept to round-off, and the
     /// stress and tangent still derive from the energy with β ≠ 0.
     #[test]
