@@ -19,6 +19,12 @@
 //! - [`bench`]: the speed–accuracy ladder and refinement sweeps of `turf bench`.
 #![warn(missing_docs)]
 
+/// The build that runs: the crate version and the hash of the source it was built from
+/// (`build.rs`), e.g. `0.1.1+8c3e0d1f2a4b5c6d`. Results kept for reuse (the stage cache, a
+/// sweep point's result, an ensemble's realisation) are keyed on it, so a changed engine never
+/// hands over what the old one computed.
+pub const BUILD: &str = concat!(env!("CARGO_PKG_VERSION"), "+", env!("TURF_SOURCE_HASH"));
+
 pub mod bench;
 pub mod continuum;
 pub mod discrete;

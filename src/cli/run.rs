@@ -154,17 +154,25 @@ pub fn print_report(report: RunReport, json: bool) -> anyhow::Result<()> {
     }
 }
 
-/// Whether `dir` holds the checkpoint of a run that did not finish (its summary missing or
-/// `complete = false`): a plain re-run starts over, and the user should know `--resume` exists.
+/// Whether `dir` holds the checkpoint of a discrete compression that did not finish (no
+/// summary, or one that is not `complete` and records no finished `discrete` stage): a plain
+/// re-run starts over, and the user should know `--resume` exists. A run whose discrete stage
+/// finished and a later stage failed keeps its checkpoint as one of that stage's files; a
+/// re-run reuses the stage from the cache, so there is nothing to resume.
 fn interrupted_run_note(dir: &std::path::Path) -> Option<String> {
     if !dir.join(pipeline::CHECKPOINT).is_file() {
         return None;
     }
-    let complete = std::fs::read_to_string(dir.join("summary.json"))
+    let summary = std::fs::read_to_string(dir.join("summary.json"))
         .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| v["complete"].as_bool());
-    (complete != Some(true)).then(|| {
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+    let finished = summary.is_some_and(|v| {
+        v["complete"].as_bool() == Some(true)
+            || v["stages"]
+                .as_array()
+                .is_some_and(|s| s.iter().any(|r| r["stage"] == "discrete"))
+    });
+    (!finished).then(|| {
         format!(
             "{} holds the checkpoint of an interrupted run ({})",
             dir.display(),

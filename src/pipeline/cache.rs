@@ -3,15 +3,16 @@
 //! `homogenize` (its card feeds the continuum stage).
 //!
 //! **Key.** The FNV-1a 64-bit hash of the canonical JSON (object keys sorted, no whitespace)
-//! of: the stage, the turf version, the resolved scene sections the stage reads (internal
+//! of: the stage, the build ([`crate::BUILD`]: the turf version and the hash of its source),
+//! the resolved scene sections the stage reads (internal
 //! units, defaults filled) and the keys of the cached stages it reads from. `discrete`:
 //! `[turf]` (with `turf.realisations` when above 1: an ensemble is another result; a
 //! one-realisation scene keeps the key it had before the ensemble existed), `[rods]`,
 //! `[compression]`, `scene.seed`, `output.vtk`, `output.plots`.
 //! `homogenize`: `[homogenize]`, `[viscoelastic]`, and the `discrete` key when it fits the
 //! discrete curve. A change of any other key (`[mesh]`, `[adhesion]`, `[schedule]`, ...) keeps
-//! the key. The key does not see code changes within one turf version: delete `cache/` to
-//! force recomputation after changing the engines.
+//! the key. A binary built from other source (another version, an edited engine, other cargo
+//! features) has other keys: it recomputes rather than reuse what another build computed.
 //!
 //! **Entry.** `cache/<stage>-<key>/`: `record.json` (the stage record, the key, and the
 //! canonical inputs, compared on reuse so a hash collision cannot hand over a wrong result)
@@ -107,7 +108,7 @@ pub fn key(stage: Stage, scene: &ResolvedScene, previous: &[StageRecord]) -> Opt
     };
     let inputs = canonical_json(&json!({
         "stage": stage.name(),
-        "turf_version": env!("CARGO_PKG_VERSION"),
+        "turf_build": crate::BUILD,
         "inputs": sections,
     }));
     Some(Key {
@@ -222,5 +223,24 @@ mod tests {
         let b: Value = serde_json::from_str(r#"{"a": "s", "b": [1, {"x": 1.5, "y": 2}]}"#).unwrap();
         assert_eq!(canonical_json(&a), canonical_json(&b));
         assert_eq!(canonical_json(&a), r#"{"a":"s","b":[1,{"x":1.5,"y":2}]}"#);
+    }
+
+    /// The key hashes the build (version and source hash), so another build recomputes.
+    #[test]
+    fn the_key_names_the_build_it_was_computed_by() {
+        let (version, source) = crate::BUILD.split_once('+').unwrap();
+        assert_eq!(version, env!("CARGO_PKG_VERSION"));
+        assert_eq!(source.len(), 16);
+        assert!(source.chars().all(|c| c.is_ascii_hexdigit()), "{source}");
+        let scene = crate::scene::load_str(
+            include_str!("../../scenes/quickstart.toml"),
+            Path::new("quickstart.toml"),
+            &[],
+        )
+        .unwrap();
+        let k = key(Stage::Discrete, &scene.base, &[]).unwrap();
+        let build = format!(r#""turf_build":"{}""#, crate::BUILD);
+        assert!(k.inputs.contains(&build), "{}", k.inputs);
+        assert_eq!(k.hex, format!("{:016x}", fnv1a64(k.inputs.as_bytes())));
     }
 }

@@ -254,7 +254,7 @@ impl<'a> Job<'a> {
 
     /// What the realisation's result depends on, as canonical JSON: its seed, the turf
     /// without the ensemble's size, the compression, the sphere's adhesion, the files asked
-    /// for, the turf version.
+    /// for, the build ([`crate::BUILD`]).
     fn inputs(&self) -> Result<String, StageError> {
         let single = crate::scene::turf::Turf {
             realisations: 1,
@@ -262,7 +262,7 @@ impl<'a> Job<'a> {
         };
         let s = self.scene;
         let v = serde_json::to_value((
-            env!("CARGO_PKG_VERSION"),
+            crate::BUILD,
             self.seed,
             &single,
             self.compression,

@@ -147,7 +147,7 @@ impl Outcome {
 /// A point's result as kept in [`POINT_RESULT`].
 #[derive(Serialize, Deserialize)]
 struct PointResult {
-    /// the canonical JSON of the turf version and the point's resolved scene
+    /// the canonical JSON of the build ([`crate::BUILD`]) and the point's resolved scene
     inputs: String,
     stages: Vec<StageRecord>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -156,7 +156,7 @@ struct PointResult {
 
 /// What a point's result depends on.
 fn point_inputs(scene: &ResolvedScene) -> String {
-    let v = serde_json::to_value((env!("CARGO_PKG_VERSION"), &scene.scene));
+    let v = serde_json::to_value((crate::BUILD, &scene.scene));
     super::cache::canonical_json(&v.unwrap_or(serde_json::Value::Null))
 }
 

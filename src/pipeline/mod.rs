@@ -9,7 +9,7 @@
 //! records the stages done and the error. At the end (also after a failure) the run's
 //! `report.md` is written from the summary ([`crate::report::markdown`]).
 //!
-//! `summary.json`: `turf_version`, `file`, `units` (the internal units), `scene` (the fully
+//! `summary.json`: `turf_version`, `turf_build` ([`crate::BUILD`]), `file`, `units` (the internal units), `scene` (the fully
 //! resolved scene in internal units), `derived`, `plan`, then either `stages` (one record per
 //! stage run: `stage`, `wall_time_s`, `evaluations`, `values`, `files`, `cached`,
 //! `cache_key` for a cached stage, and `warnings` when the stage has any) or, for a `[sweep]`,
@@ -247,6 +247,8 @@ pub struct SweepSummary {
 pub struct Summary {
     /// the turf version that ran
     pub turf_version: &'static str,
+    /// the build that ran: the version and the hash of its source ([`crate::BUILD`])
+    pub turf_build: &'static str,
     /// the scene file
     pub file: String,
     /// the internal units of every number
@@ -343,6 +345,7 @@ fn new_summary(loaded: &Loaded, out_dir: &Path) -> Result<Summary, ReportError> 
     let base = &loaded.base;
     let summary = Summary {
         turf_version: env!("CARGO_PKG_VERSION"),
+        turf_build: crate::BUILD,
         file: base.file.display().to_string(),
         units: UNITS,
         scene: serde_json::to_value(&base.scene).map_err(|e| ReportError::Invalid {

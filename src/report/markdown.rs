@@ -29,7 +29,7 @@ pub fn render(summary: &Value, dir: &Path) -> String {
         .map_or_else(|| text(&summary["file"]), str::to_string);
     let _ = writeln!(s, "# Run report: {name}\n");
     let _ = writeln!(s, "- scene file: `{}`", text(&summary["file"]));
-    let _ = writeln!(s, "- turf version: {}", text(&summary["turf_version"]));
+    let _ = writeln!(s, "- turf build: {}", text(&summary["turf_build"]));
     let complete = summary["complete"].as_bool() == Some(true);
     match summary["error"].as_str() {
         Some(e) => {

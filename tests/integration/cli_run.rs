@@ -460,18 +460,29 @@ fn every_number_the_fast_example_scenes_write_is_finite() {
 }
 
 /// A plain re-run into a folder holding an interrupted run's checkpoint says that `--resume`
-/// exists (and starts over); after a complete run it says nothing.
+/// exists (and starts over); after a complete run, or one whose discrete stage finished before
+/// a later stage failed (its checkpoint is one of the stage's files), it says nothing.
 #[test]
 fn a_rerun_over_an_interrupted_checkpoint_points_to_resume() {
-    for (complete, noted) in [(false, true), (true, false)] {
-        let dir = temp(&format!("interrupted-{complete}"));
+    let cases = [
+        ("interrupted", r#"{"complete": false}"#, true),
+        ("complete", r#"{"complete": true}"#, false),
+        (
+            "later-stage-failed",
+            r#"{"complete": false, "stages": [{"stage": "discrete"}], "error": "continuum"}"#,
+            false,
+        ),
+        (
+            "discrete-failed",
+            r#"{"complete": false, "stages": [{"stage": "theory"}], "error": "discrete"}"#,
+            true,
+        ),
+    ];
+    for (name, summary, noted) in cases {
+        let dir = temp(&format!("interrupted-{name}"));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join(turf::pipeline::CHECKPOINT), "{}").unwrap();
-        std::fs::write(
-            dir.join("summary.json"),
-            format!(r#"{{"complete": {complete}}}"#),
-        )
-        .unwrap();
+        std::fs::write(dir.join("summary.json"), summary).unwrap();
         let out = turf(&[
             "run",
             "scenes/jkr_sphere.toml",
@@ -480,7 +491,11 @@ fn a_rerun_over_an_interrupted_checkpoint_points_to_resume() {
         ]);
         assert!(out.status.success(), "{}", text(&out.stderr));
         let err = text(&out.stderr);
-        assert_eq!(err.contains("--resume` continues it"), noted, "{err}");
+        assert_eq!(
+            err.contains("--resume` continues it"),
+            noted,
+            "{name}: {err}"
+        );
         std::fs::remove_dir_all(dir).ok();
     }
 }
