@@ -69,6 +69,9 @@ impl Shard {
 pub struct Manifest {
     /// the turf version that ran
     pub turf_version: String,
+    /// the build that ran ([`crate::BUILD`]; empty in a manifest written before it was kept)
+    #[serde(default)]
+    pub turf_build: String,
     /// the scene file, absolute
     pub scene: PathBuf,
     /// the `--set` overrides
@@ -104,6 +107,7 @@ pub fn run_shard(
         .collect();
     let mut manifest = Manifest {
         turf_version: env!("CARGO_PKG_VERSION").into(),
+        turf_build: crate::BUILD.into(),
         scene: std::path::absolute(file).unwrap_or_else(|_| file.to_path_buf()),
         set: set.to_vec(),
         shard: shard.to_string(),
@@ -184,6 +188,20 @@ pub fn merge(
                 dirs[0].display(),
                 first.scene.display(),
                 first.set
+            )));
+        }
+        if m.turf_build != crate::BUILD {
+            let ran = if m.turf_build.is_empty() {
+                "an older turf".to_string()
+            } else {
+                format!("turf {}", m.turf_build)
+            };
+            return Err(MergeError::Shards(format!(
+                "{} was run by {ran}, this is turf {}: results kept by one build are not \
+                 reused by another (the merge would compute them again); merge with the \
+                 binary that ran the shards, or re-run the shards with this one",
+                dir.display(),
+                crate::BUILD
             )));
         }
         let shard: Shard = m.shard.parse().map_err(MergeError::Shards)?;

@@ -218,6 +218,25 @@ fn a_sweep_without_an_ensemble_shards_by_point() {
     // points 0 and 3 of 4 in slice 1 of 3
     assert_eq!(manifest["items"], 2);
     assert_eq!(manifest["outcomes"][1]["item"]["Point"]["point"], 3);
+    // a shard run by another build is refused by name: its kept results would be recomputed
+    let path = dir.join("shard2/shard.json");
+    let ran_by = manifest["turf_build"].as_str().unwrap().to_string();
+    let other = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace(&ran_by, "0.0.0+0123456789abcdef");
+    std::fs::write(&path, other).unwrap();
+    let shards: Vec<String> = (1..=3)
+        .map(|i| dir.join(format!("shard{i}")).display().to_string())
+        .collect();
+    let out = turf(&["merge", &shards[0], &shards[1], &shards[2]]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    for part in [
+        "shard2 was run by turf 0.0.0+0123456789abcdef",
+        &format!("this is turf {ran_by}"),
+    ] {
+        assert!(err.contains(part), "{part:?} missing from: {err}");
+    }
     std::fs::remove_dir_all(dir).ok();
 }
 
