@@ -4,8 +4,8 @@
 //!
 //! **Key.** The FNV-1a 64-bit hash of the canonical JSON (object keys sorted, no whitespace)
 //! of: the stage, the build ([`crate::BUILD`]: the turf version and the hash of its source),
-//! the resolved scene sections the stage reads (internal
-//! units, defaults filled) and the keys of the cached stages it reads from. `discrete`:
+//! the resolved scene sections the stage reads (internal units, defaults filled) and the keys
+//! of the cached stages it reads from. `discrete`:
 //! `[turf]` (with `turf.realisations` when above 1: an ensemble is another result; a
 //! one-realisation scene keeps the key it had before the ensemble existed), `[rods]`,
 //! `[compression]`, `scene.seed`, `output.vtk`, `output.plots`.

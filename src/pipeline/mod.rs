@@ -9,9 +9,10 @@
 //! records the stages done and the error. At the end (also after a failure) the run's
 //! `report.md` is written from the summary ([`crate::report::markdown`]).
 //!
-//! `summary.json`: `turf_version`, `turf_build` ([`crate::BUILD`]), `file`, `units` (the internal units), `scene` (the fully
-//! resolved scene in internal units), `derived`, `plan`, then either `stages` (one record per
-//! stage run: `stage`, `wall_time_s`, `evaluations`, `values`, `files`, `cached`,
+//! `summary.json`: `turf_version`, `turf_build` ([`crate::BUILD`]), `file`, `units` (the
+//! internal units), `scene` (the fully resolved scene in internal units), `derived`, `plan`,
+//! then either `stages` (one record per stage run: `stage`, `wall_time_s`, `evaluations`,
+//! `values`, `files`, `cached`,
 //! `cache_key` for a cached stage, and `warnings` when the stage has any) or, for a `[sweep]`,
 //! `sweep` (`key`, one entry per value with its own `value_internal`, `derived` and `stages`,
 //! and `files`: `sweep.csv` and the plots across the points, [`sweep_table`]), and `error`
