@@ -254,23 +254,6 @@ impl Broadphase {
         self.pbox
     }
 
-    /// The positions of the last build, and how far (nm) a node may move from them before the
-    /// list must be rebuilt (skin/2).
-    pub fn verlet(&self) -> (&[f64], f64) {
-        (&self.x_ref, 0.5 * self.skin)
-    }
-
-    /// The skin, nm.
-    pub fn skin(&self) -> f64 {
-        self.skin
-    }
-
-    /// Change the skin to `skin` (nm) and rebuild the list at `x`.
-    pub fn set_skin(&mut self, skin: f64, x: &[f64], keep: &dyn Fn(&SegmentPair) -> bool) {
-        self.skin = skin;
-        self.rebuild(x, keep);
-    }
-
     /// Bring the pair list up to date for `x`: rebuild (the tree and the pairs) when any
     /// node has moved more than skin/2 since the last build; otherwise keep it. Returns whether
     /// it rebuilt.

@@ -252,33 +252,6 @@ pub(crate) fn solve_step(
     step: usize,
     strain: f64,
 ) -> Result<Cost, DriveError> {
-    if let (Some(tubes), StaticSolver::Newton(p)) = (
-        std::env::var("TURF_DOMAIN_TUBES")
-            .ok()
-            .and_then(|v| v.parse::<usize>().ok()),
-        solver,
-    ) {
-        let sweeps = std::env::var("TURF_DOMAIN_SWEEPS")
-            .ok()
-            .and_then(|v| v.parse::<usize>().ok())
-            .unwrap_or(2);
-        let start = std::time::Instant::now();
-        let params = super::solve_domains::DomainParams {
-            tubes,
-            sweeps,
-            max_iterations: 200,
-            skin: std::env::var("TURF_DOMAIN_SKIN")
-                .ok()
-                .and_then(|v| v.parse::<f64>().ok())
-                .unwrap_or(10.0),
-        };
-        let c = super::solve_domains::sweep_domains(sys, x, &params, p);
-        eprintln!(
-            "step {step}: {sweeps} sweeps in {:.2} s: {c:?}, energy {:.6e}",
-            start.elapsed().as_secs_f64(),
-            sys.energy(x)
-        );
-    }
     sys.solve(x, solver)
         .map(|info| info.cost)
         .map_err(|source| DriveError::Step {

@@ -23,7 +23,6 @@ pub mod rod_kernels;
 pub mod rod_problems;
 pub mod rve;
 pub mod solve;
-pub mod solve_domains;
 pub mod solve_fire;
 pub mod solve_newton;
 pub mod sphere_adhesion;

@@ -87,22 +87,6 @@ impl Wall {
         }
     }
 
-    /// The same wall acting only on the nodes `local_of` numbers, renumbered by it (a block of
-    /// tubes solved alone on a copy of its coordinates).
-    pub fn restricted(&self, local_of: &dyn Fn(usize) -> Option<usize>) -> Wall {
-        Wall {
-            nodes: self
-                .nodes
-                .iter()
-                .filter_map(|&(i, r)| local_of(i).map(|l| (l, r)))
-                .collect(),
-            height: self.height,
-            facing: self.facing,
-            stiffness: self.stiffness,
-            shape: self.shape,
-        }
-    }
-
     /// Penetration of node `i` of tube radius `r` (nm) into the wall.
     #[inline]
     fn penetration(&self, x: &[f64], i: usize, r: f64) -> Penetration {

@@ -168,15 +168,6 @@ impl Rod {
         self.first
     }
 
-    /// The same rod on the nodes `first ..` of another vector (a block of tubes solved alone
-    /// on a copy of its coordinates).
-    pub fn moved_to(&self, first: usize) -> Rod {
-        Rod {
-            first,
-            ..self.clone()
-        }
-    }
-
     /// Number of nodes.
     pub fn nodes(&self) -> usize {
         self.rest_lengths.len() + 1

@@ -246,121 +246,39 @@ impl VdwTerm {
 
     /// Evaluate every listed pair at `x` (in parallel, results in pair order).
     pub fn evaluate_pairs(&self, x: &[f64], want_hessian: bool) -> Vec<SegmentPairEnergy> {
-        let node = |n: usize| Vector::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]);
+        let segs = self.broadphase.segments();
+        let pbox = self.broadphase.periodic_box();
         self.pairs()
             .par_iter()
-            .map(|p| self.evaluate(&node, p, want_hessian))
-            .collect()
-    }
-
-    /// One pair, its nodes' positions from `node` (nm).
-    fn evaluate(
-        &self,
-        node: &impl Fn(usize) -> Vector,
-        p: &SegmentPair,
-        want_hessian: bool,
-    ) -> SegmentPairEnergy {
-        let segs = self.broadphase.segments();
-        let quad = |i: usize, off: Vector| {
-            let s = &self.exclusion.info[i];
-            let [n0, n1] = segs.nodes[i];
-            QuadSegment {
-                ends: [node(n0) + off, node(n1) + off],
-                panels: s.panels,
-                length0: s.length0,
-            }
-        };
-        let (a, b) = (p.a as usize, p.b as usize);
-        let pbox = self.broadphase.periodic_box();
-        let (qa, qb) = (quad(a, Vector::ZERO), quad(b, pbox.offset(p.shift)));
-        match &self.table {
-            Some(t) => {
-                energy_segment_segment_tabulated(&self.pot, t, &self.rule, &qa, &qb, want_hessian)
-            }
-            None => {
-                let r_sum = self.exclusion.info[a].radius + self.exclusion.info[b].radius;
-                energy_segment_segment(&self.pot, &self.rule, &qa, &qb, r_sum, want_hessian)
-            }
-        }
-    }
-
-    /// Indices (into [`Self::pairs`]) of the listed pairs with a segment on a node `touches`
-    /// flags.
-    pub fn pairs_touching(&self, touches: &dyn Fn(usize) -> bool) -> Vec<usize> {
-        let segs = self.broadphase.segments();
-        let on = |i: u32| segs.nodes[i as usize].iter().any(|&n| touches(n));
-        self.pairs()
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| on(p.a) || on(p.b))
-            .map(|(k, _)| k)
-            .collect()
-    }
-
-    /// The segments' end nodes of listed pair `k`: [a₀, a₁, b₀, b₁].
-    pub fn pair_nodes(&self, k: usize) -> [usize; 4] {
-        let segs = self.broadphase.segments();
-        let p = &self.pairs()[k];
-        let [a0, a1] = segs.nodes[p.a as usize];
-        let [b0, b1] = segs.nodes[p.b as usize];
-        [a0, a1, b0, b1]
-    }
-
-    /// The positions the neighbour list was built at, and how far (nm) a node may move from
-    /// them before the list must be rebuilt (half the skin).
-    pub fn verlet(&self) -> (&[f64], f64) {
-        self.broadphase.verlet()
-    }
-
-    /// The energy (aJ) of the listed pairs `pairs` as a function of some nodes alone, the
-    /// others held at `x`: `local_of(n)` is the local number of node n (`None`: held), `local`
-    /// holds the local nodes' coordinates (3 per node); their gradient is added into `grad`
-    /// and, when `hessian` is given, their Hessian entries (local numbering, both triangles)
-    /// are appended to it.
-    pub fn energy_of_nodes(
-        &self,
-        x: &[f64],
-        local_of: &dyn Fn(usize) -> Option<usize>,
-        local: &[f64],
-        pairs: &[usize],
-        grad: &mut [f64],
-        mut hessian: Option<&mut Vec<(usize, usize, f64)>>,
-    ) -> f64 {
-        let node = |n: usize| {
-            let (v, k) = match local_of(n) {
-                Some(l) => (local, 3 * l),
-                None => (x, 3 * n),
-            };
-            Vector::new(v[k], v[k + 1], v[k + 2])
-        };
-        let mut energy = 0.0;
-        for &k in pairs {
-            let r = self.evaluate(&node, &self.pairs()[k], hessian.is_some());
-            energy += r.energy;
-            let nodes = self.pair_nodes(k);
-            // local coordinate of each of the pair's 12, or None for a held node
-            let dof: [Option<usize>; 12] =
-                std::array::from_fn(|j| local_of(nodes[j / 3]).map(|l| 3 * l + j % 3));
-            for (d, g) in dof.iter().zip(r.grad) {
-                if let Some(d) = d {
-                    grad[*d] += g;
-                }
-            }
-            if let (Some(out), Some(h)) = (hessian.as_deref_mut(), &r.hessian) {
-                if r.point_pairs == 0 {
-                    continue;
-                }
-                for (i, di) in dof.iter().enumerate() {
-                    let Some(di) = di else { continue };
-                    for (j, dj) in dof.iter().enumerate() {
-                        if let Some(dj) = dj {
-                            out.push((*di, *dj, h[12 * i + j]));
-                        }
+            .map(|p| {
+                let quad = |i: usize, off: Vector| {
+                    let s = &self.exclusion.info[i];
+                    let [n0, n1] = segs.nodes[i];
+                    let v = |n: usize| Vector::new(x[3 * n], x[3 * n + 1], x[3 * n + 2]) + off;
+                    QuadSegment {
+                        ends: [v(n0), v(n1)],
+                        panels: s.panels,
+                        length0: s.length0,
+                    }
+                };
+                let (a, b) = (p.a as usize, p.b as usize);
+                let (qa, qb) = (quad(a, Vector::ZERO), quad(b, pbox.offset(p.shift)));
+                match &self.table {
+                    Some(t) => energy_segment_segment_tabulated(
+                        &self.pot,
+                        t,
+                        &self.rule,
+                        &qa,
+                        &qb,
+                        want_hessian,
+                    ),
+                    None => {
+                        let r_sum = self.exclusion.info[a].radius + self.exclusion.info[b].radius;
+                        energy_segment_segment(&self.pot, &self.rule, &qa, &qb, r_sum, want_hessian)
                     }
                 }
-            }
-        }
-        energy
+            })
+            .collect()
     }
 
     /// The periodic box.
@@ -372,17 +290,6 @@ impl VdwTerm {
     pub fn set_box(&mut self, pbox: PeriodicBox, x: &[f64]) {
         let excl = &self.exclusion;
         self.broadphase.set_box(pbox, x, &|p| excl.keep(p));
-    }
-
-    /// The neighbour list's skin, nm.
-    pub fn skin(&self) -> f64 {
-        self.broadphase.skin()
-    }
-
-    /// Change the neighbour list's skin to `skin` (nm), the list rebuilt at `x`.
-    pub fn set_skin(&mut self, skin: f64, x: &[f64]) {
-        let excl = &self.exclusion;
-        self.broadphase.set_skin(skin, x, &|p| excl.keep(p));
     }
 
     /// Leave out every pair of two segments that both touch a node `touches` flags (the
