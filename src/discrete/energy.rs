@@ -18,6 +18,23 @@ pub trait EnergyTerm: Sync {
     /// The Hessian (nN/nm) at `x`, **appended** as (row, col, value) entries of the full
     /// symmetric matrix (both triangles; duplicates are summed by the solver).
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>);
+
+    /// The Hessian's entries on and below the diagonal (row ≥ column), appended in the order
+    /// [`Self::hessian`] lists them: what a solver that stores one triangle of the symmetric
+    /// matrix assembles. Default: [`Self::hessian`] filtered; a term with many entries lists
+    /// the lower triangle directly.
+    fn hessian_lower(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
+        let start = out.len();
+        self.hessian(x, out);
+        let mut kept = start;
+        for k in start..out.len() {
+            if out[k].0 >= out[k].1 {
+                out[kept] = out[k];
+                kept += 1;
+            }
+        }
+        out.truncate(kept);
+    }
 }
 
 /// Finite-difference checks shared by the terms' tests.
@@ -27,13 +44,21 @@ pub(crate) mod fd {
 
     /// The largest errors of `term`'s gradient against central differences of its energy and
     /// of its Hessian against central differences of its gradient, at `x` with step `h`, each
-    /// relative to the largest entry of the gradient and of the Hessian.
+    /// relative to the largest entry of the gradient and of the Hessian; asserts on the way
+    /// that its lower triangle ([`EnergyTerm::hessian_lower`]) is its Hessian's, entry by entry.
     pub(crate) fn relative_errors(term: &dyn EnergyTerm, x: &[f64], h: f64) -> (f64, f64) {
         let n = x.len();
         let mut g = vec![0.0; n];
         term.energy_gradient(x, &mut g);
         let mut entries = Vec::new();
         term.hessian(x, &mut entries);
+        let mut lower = Vec::new();
+        term.hessian_lower(x, &mut lower);
+        let below: Vec<_> = entries.iter().copied().filter(|e| e.0 >= e.1).collect();
+        assert_eq!(
+            lower, below,
+            "hessian_lower lists the entries of hessian on and below the diagonal, in its order"
+        );
         let mut hess = vec![0.0; n * n];
         for (r, c, v) in entries {
             hess[r * n + c] += v;

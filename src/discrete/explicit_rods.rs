@@ -120,14 +120,28 @@ impl EnergyTerm for RodsModel {
     }
 
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.rods.hessian(x, out);
-        for c in &self.clamps {
-            c.hessian(x, out);
+        for t in self.terms() {
+            t.hessian(x, out);
         }
-        self.loads.hessian(x, out);
-        if let Some(v) = &self.vdw {
-            v.hessian(x, out);
+    }
+
+    fn hessian_lower(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
+        for t in self.terms() {
+            t.hessian_lower(x, out);
         }
+    }
+}
+
+impl RodsModel {
+    /// Every term, in the order the Hessian lists them: the rods, the clamps, the loads and
+    /// the contacts.
+    fn terms(&self) -> impl Iterator<Item = &dyn EnergyTerm> {
+        let rods: &dyn EnergyTerm = &self.rods;
+        let loads: &dyn EnergyTerm = &self.loads;
+        std::iter::once(rods)
+            .chain(self.clamps.iter().map(|c| c as &dyn EnergyTerm))
+            .chain(std::iter::once(loads))
+            .chain(self.vdw.as_ref().map(|v| v as &dyn EnergyTerm))
     }
 }
 

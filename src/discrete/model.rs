@@ -63,6 +63,18 @@ impl TurfModel {
             .into_iter()
             .chain(stick.map(|t| t as &dyn EnergyTerm))
     }
+
+    /// Every term acting now, in the order the Hessian lists them: the rods (whose entries
+    /// never change) first, then the contacts, the walls and the sphere's terms.
+    fn terms(&self) -> impl Iterator<Item = &dyn EnergyTerm> {
+        let rods: &dyn EnergyTerm = &self.rods;
+        let substrate: &dyn EnergyTerm = &self.substrate;
+        std::iter::once(rods)
+            .chain(self.vdw.as_ref().map(|v| v as &dyn EnergyTerm))
+            .chain(std::iter::once(substrate))
+            .chain(self.platen.as_ref().map(|p| p as &dyn EnergyTerm))
+            .chain(self.sphere_terms())
+    }
 }
 
 impl EnergyTerm for TurfModel {
@@ -88,16 +100,14 @@ impl EnergyTerm for TurfModel {
     }
 
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        self.rods.hessian(x, out);
-        if let Some(v) = &self.vdw {
-            v.hessian(x, out);
-        }
-        self.substrate.hessian(x, out);
-        if let Some(p) = &self.platen {
-            p.hessian(x, out);
-        }
-        for t in self.sphere_terms() {
+        for t in self.terms() {
             t.hessian(x, out);
+        }
+    }
+
+    fn hessian_lower(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
+        for t in self.terms() {
+            t.hessian_lower(x, out);
         }
     }
 }

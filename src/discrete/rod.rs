@@ -274,9 +274,15 @@ impl NodeBlocks {
         }
     }
 
-    /// Number of entries [`Self::emit`] lists for a rod of `nodes` nodes.
-    fn entries(nodes: usize) -> usize {
-        9 * nodes + 18 * (nodes.saturating_sub(1) + nodes.saturating_sub(2))
+    /// Number of entries [`Self::emit`] lists for a rod of `nodes` nodes (`lower`: on and
+    /// below the diagonal only).
+    fn entries(nodes: usize, lower: bool) -> usize {
+        let off = nodes.saturating_sub(1) + nodes.saturating_sub(2);
+        if lower {
+            6 * nodes + 9 * off
+        } else {
+            9 * nodes + 18 * off
+        }
     }
 
     /// Add a block Hessian over edge vectors: `edges` lists, for each edge vector of the
@@ -306,16 +312,19 @@ impl NodeBlocks {
         }
     }
 
-    /// The entries, both triangles, of global node numbers `n0 + k`, into `out` (of length
-    /// [`Self::entries`]).
-    fn emit(&self, n0: usize, out: &mut [(usize, usize, f64)]) {
+    /// The entries of global node numbers `n0 + k` into `out` (of length [`Self::entries`]):
+    /// both triangles, or (`lower`) those on and below the diagonal, in the same order.
+    fn emit(&self, n0: usize, lower: bool, out: &mut [(usize, usize, f64)]) {
         let mut slots = out.iter_mut();
         let mut put = |row: usize, col: usize, m: &Matrix3<f64>, transpose: bool| {
             for r in 0..3 {
                 for c in 0..3 {
+                    let (i, j) = (3 * (n0 + row) + r, 3 * (n0 + col) + c);
+                    if lower && i < j {
+                        continue;
+                    }
                     let v = if transpose { m[(c, r)] } else { m[(r, c)] };
-                    *slots.next().expect("one slot per entry") =
-                        (3 * (n0 + row) + r, 3 * (n0 + col) + c, v);
+                    *slots.next().expect("one slot per entry") = (i, j, v);
                 }
             }
         };
@@ -325,20 +334,23 @@ impl NodeBlocks {
         for (d, blocks) in self.sub.iter().enumerate() {
             for (k, m) in blocks.iter().enumerate() {
                 put(k + d + 1, k, m, false);
-                put(k, k + d + 1, m, true);
+                if !lower {
+                    put(k, k + d + 1, m, true);
+                }
             }
         }
     }
 }
 
 impl Rod {
-    /// Number of Hessian entries the rod lists.
-    fn hessian_entries(&self) -> usize {
-        NodeBlocks::entries(self.nodes())
+    /// Number of Hessian entries the rod lists (`lower`: on and below the diagonal only).
+    fn hessian_entries(&self, lower: bool) -> usize {
+        NodeBlocks::entries(self.nodes(), lower)
     }
 
-    /// The rod's Hessian entries into `out` (of length [`Self::hessian_entries`]).
-    fn hessian_into(&self, x: &[f64], out: &mut [(usize, usize, f64)]) {
+    /// The rod's Hessian entries into `out` (of length [`Self::hessian_entries`]): both
+    /// triangles, or (`lower`) those on and below the diagonal.
+    fn hessian_into(&self, x: &[f64], lower: bool, out: &mut [(usize, usize, f64)]) {
         let mut blocks = NodeBlocks::new(self.nodes());
         for (j, &rest) in self.rest_lengths.iter().enumerate() {
             let (_, _, h) = stretch_edge(&self.edge(x, j), rest, self.stiffness.axial);
@@ -351,7 +363,14 @@ impl Rod {
                 h.fixed_view::<3, 3>(3 * a, 3 * b).into_owned()
             });
         }
-        blocks.emit(self.first, out);
+        blocks.emit(self.first, lower, out);
+    }
+
+    /// The rod's entries appended to `out` (`lower`: on and below the diagonal only).
+    fn hessian_append(&self, x: &[f64], lower: bool, out: &mut Vec<(usize, usize, f64)>) {
+        let start = out.len();
+        out.resize(start + self.hessian_entries(lower), (0, 0, 0.0));
+        self.hessian_into(x, lower, &mut out[start..]);
     }
 }
 
@@ -362,9 +381,11 @@ impl EnergyTerm for Rod {
     }
 
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        let start = out.len();
-        out.resize(start + self.hessian_entries(), (0, 0, 0.0));
-        self.hessian_into(x, &mut out[start..]);
+        self.hessian_append(x, false, out);
+    }
+
+    fn hessian_lower(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
+        self.hessian_append(x, true, out);
     }
 }
 
@@ -424,20 +445,31 @@ impl EnergyTerm for RodSet {
     }
 
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        // each rod fills its own stretch of `out`, in rod order
+        self.hessian_append(x, false, out);
+    }
+
+    fn hessian_lower(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
+        self.hessian_append(x, true, out);
+    }
+}
+
+impl RodSet {
+    /// Every rod's entries appended to `out` (`lower`: on and below the diagonal only), each
+    /// rod filling its own stretch in parallel, in rod order.
+    fn hessian_append(&self, x: &[f64], lower: bool, out: &mut Vec<(usize, usize, f64)>) {
         let start = out.len();
-        let total: usize = self.rods.iter().map(Rod::hessian_entries).sum();
+        let total: usize = self.rods.iter().map(|r| r.hessian_entries(lower)).sum();
         out.resize(start + total, (0, 0, 0.0));
         let mut parts = Vec::with_capacity(self.rods.len());
         let mut rest = &mut out[start..];
         for rod in &self.rods {
-            let (part, tail) = rest.split_at_mut(rod.hessian_entries());
+            let (part, tail) = rest.split_at_mut(rod.hessian_entries(lower));
             parts.push((rod, part));
             rest = tail;
         }
         parts
             .into_par_iter()
-            .for_each(|(rod, part)| rod.hessian_into(x, part));
+            .for_each(|(rod, part)| rod.hessian_into(x, lower, part));
     }
 }
 
@@ -562,6 +594,12 @@ mod tests {
         assert_eq!(e1, e2);
         assert_eq!(g1, g2);
         assert_eq!(set.segments(), 4 + 7);
+        // the lower triangle the Newton solver assembles: the full list's, in its order
+        let (mut full, mut lower) = (Vec::new(), Vec::new());
+        set.hessian(&x, &mut full);
+        set.hessian_lower(&x, &mut lower);
+        full.retain(|e| e.0 >= e.1);
+        assert_eq!(lower, full);
     }
 
     #[test]

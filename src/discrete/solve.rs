@@ -36,6 +36,12 @@ impl EnergyTerm for Sum<'_> {
             t.hessian(x, out);
         }
     }
+
+    fn hessian_lower(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
+        for t in &self.0 {
+            t.hessian_lower(x, out);
+        }
+    }
 }
 
 /// What a solve cost.

@@ -163,7 +163,7 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
         let d = &mut self.d;
         d.ev.cost.iterations += 1;
         self.trip.clear();
-        d.ev.model.hessian(x, &mut self.trip);
+        d.ev.model.hessian_lower(x, &mut self.trip);
         d.ev.cost.hessian_evaluations += 1;
         self.hessian.load(&self.trip)?;
         let rhs: Vec<f64> = d.free.iter().map(|&dof| -d.grad[dof]).collect();
@@ -408,10 +408,11 @@ fn cubic_step(e0: f64, slope0: f64, s: f64, e1: f64, slope1: f64) -> f64 {
 }
 
 /// The Hessian over the free coordinates as a sparse system: its lower triangle, then a
-/// diagonal that carries the Newton loop's shift. The map from the model's entries (full
-/// numbering, both triangles) to the compressed values is kept while the model lists the same
-/// entries in the same order, so an iteration only sums values into their slots, in the
-/// model's order. When the list changes, the compressed pattern of the unchanged head of the
+/// diagonal that carries the Newton loop's shift. The model lists only the entries on and
+/// below the diagonal ([`EnergyTerm::hessian_lower`]; a turf's contacts would list 144 entries
+/// per pair, 78 of them needed). The map from the model's entries (full numbering) to the
+/// compressed values is kept while the model lists the same entries in the same order, so an
+/// iteration only sums values into their slots, in the model's order. When the list changes, the compressed pattern of the unchanged head of the
 /// list (the rods, whose entries never change, come before the contacts) is kept and only the
 /// rest is sorted and merged into it; the sparse system keeps its symbolic factorisation if
 /// the compressed pattern is unchanged.
@@ -552,7 +553,7 @@ pub fn is_local_minimum<E: EnergyTerm + ?Sized>(
         index[d] = k;
     }
     let mut trip = Vec::new();
-    model.hessian(x, &mut trip);
+    model.hessian_lower(x, &mut trip);
     let mut h = FreeHessian::new(&index, free.len());
     h.load(&trip)?;
     match h.solve_shifted(0.0, &vec![1.0; free.len()]) {

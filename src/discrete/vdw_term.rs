@@ -281,6 +281,25 @@ impl VdwTerm {
             .collect()
     }
 
+    /// The Hessian entries of every listed pair in contact at `x`, appended to `out` in pair
+    /// order: both triangles, or (`lower`) those on and below the diagonal.
+    fn hessian_append(&self, x: &[f64], lower: bool, out: &mut Vec<(usize, usize, f64)>) {
+        let results = self.evaluate_pairs(x, true);
+        for (p, r) in self.pairs().iter().zip(&results) {
+            let Some(h) = r.hessian.as_ref().filter(|_| r.point_pairs > 0) else {
+                continue;
+            };
+            let dofs: [usize; 12] = std::array::from_fn(|k| self.dof(p, k));
+            for (i, &gi) in dofs.iter().enumerate() {
+                for (j, &gj) in dofs.iter().enumerate() {
+                    if !lower || gi >= gj {
+                        out.push((gi, gj, h[12 * i + j]));
+                    }
+                }
+            }
+        }
+    }
+
     /// The periodic box.
     pub fn periodic_box(&self) -> PeriodicBox {
         self.broadphase.periodic_box()
@@ -353,20 +372,11 @@ impl EnergyTerm for VdwTerm {
     }
 
     fn hessian(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
-        let results = self.evaluate_pairs(x, true);
-        for (p, r) in self.pairs().iter().zip(&results) {
-            if r.point_pairs == 0 {
-                continue;
-            }
-            if let Some(h) = &r.hessian {
-                for i in 0..12 {
-                    let gi = self.dof(p, i);
-                    for j in 0..12 {
-                        out.push((gi, self.dof(p, j), h[12 * i + j]));
-                    }
-                }
-            }
-        }
+        self.hessian_append(x, false, out);
+    }
+
+    fn hessian_lower(&self, x: &[f64], out: &mut Vec<(usize, usize, f64)>) {
+        self.hessian_append(x, true, out);
     }
 }
 
@@ -453,6 +463,36 @@ mod tests {
                 assert!((h[i * n + j] - h[j * n + i]).abs() <= 1e-12 * hmax);
             }
         }
+    }
+
+    /// The pairs are evaluated in parallel: the same numbers, in the same order, with one
+    /// thread and with two.
+    #[test]
+    fn one_and_two_threads_give_identical_numbers() {
+        let (tubes, x) = tangle();
+        let pbox = PeriodicBox {
+            lx: Some(90.0),
+            ly: None,
+        };
+        let mut term = VdwTerm::new(&VdwParams::default(), &tubes, &x, pbox).unwrap();
+        term.prepare(&x);
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut g = vec![0.0; x.len()];
+                let e = term.energy_gradient(&x, &mut g);
+                let (mut h, mut lower) = (Vec::new(), Vec::new());
+                term.hessian(&x, &mut h);
+                term.hessian_lower(&x, &mut lower);
+                (e, g, h, lower)
+            })
+        };
+        let one = run(1);
+        assert!(!one.2.is_empty() && one.3.len() < one.2.len());
+        assert_eq!(one, run(2));
     }
 
     #[test]
