@@ -465,36 +465,6 @@ mod tests {
         }
     }
 
-    /// The pairs are evaluated in parallel: the same numbers, in the same order, with one
-    /// thread and with two.
-    #[test]
-    fn one_and_two_threads_give_identical_numbers() {
-        let (tubes, x) = tangle();
-        let pbox = PeriodicBox {
-            lx: Some(90.0),
-            ly: None,
-        };
-        let mut term = VdwTerm::new(&VdwParams::default(), &tubes, &x, pbox).unwrap();
-        term.prepare(&x);
-        let run = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let mut g = vec![0.0; x.len()];
-                let e = term.energy_gradient(&x, &mut g);
-                let (mut h, mut lower) = (Vec::new(), Vec::new());
-                term.hessian(&x, &mut h);
-                term.hessian_lower(&x, &mut lower);
-                (e, g, h, lower)
-            })
-        };
-        let one = run(1);
-        assert!(!one.2.is_empty() && one.3.len() < one.2.len());
-        assert_eq!(one, run(2));
-    }
-
     #[test]
     fn the_box_gradient_matches_finite_differences_of_the_period() {
         let (tubes, x) = tangle();
