@@ -412,10 +412,10 @@ fn cubic_step(e0: f64, slope0: f64, s: f64, e1: f64, slope1: f64) -> f64 {
 /// below the diagonal ([`EnergyTerm::hessian_lower`]; a turf's contacts would list 144 entries
 /// per pair, 78 of them needed). The map from the model's entries (full numbering) to the
 /// compressed values is kept while the model lists the same entries in the same order, so an
-/// iteration only sums values into their slots, in the model's order. When the list changes, the compressed pattern of the unchanged head of the
-/// list (the rods, whose entries never change, come before the contacts) is kept and only the
-/// rest is sorted and merged into it; the sparse system keeps its symbolic factorisation if
-/// the compressed pattern is unchanged.
+/// iteration only sums values into their slots, in the model's order. When the list changes,
+/// the compressed pattern of the unchanged head of the list (the rods, whose entries never
+/// change, come before the contacts) is kept and only the rest is sorted and merged into it;
+/// the sparse system keeps its symbolic factorisation if the compressed pattern is unchanged.
 struct FreeHessian<'a> {
     /// free number of each coordinate (usize::MAX: fixed)
     index: &'a [usize],
