@@ -25,6 +25,7 @@ use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhWorkspace};
 use parry3d_f64::query::details::closest_points_segment_segment_with_locations_nD;
+use rayon::prelude::*;
 
 /// A periodic box in x and y (each axis periodic or not); z is never periodic (substrate).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -330,11 +331,16 @@ impl Broadphase {
                 }
             }
         }
-        cand.sort();
+        // sorted and filtered on rayon's workers (the same list as serially: the order is
+        // restored by the sort and kept by the filter)
+        cand.par_sort_unstable();
         cand.dedup();
+        cand.retain(|p| keep(p));
         let (segs, pbox, skin) = (&self.segs, &self.pbox, self.skin);
-        cand.retain(|p| keep(p) && segs.within(x, pbox, p, skin));
-        self.pairs = cand;
+        self.pairs = cand
+            .into_par_iter()
+            .filter(|p| segs.within(x, pbox, p, skin))
+            .collect();
         self.info.builds += 1;
     }
 }

@@ -217,8 +217,12 @@ struct Shift {
 }
 
 impl Shift {
-    /// The step p of (H + μI) p = `rhs` with the first shift that factors (counted in
-    /// `factorizations`).
+    /// The step p of (H + μI) p = `rhs` with the first shift of the ladder that factors
+    /// (counted in `factorizations`). The ladder starts at a tenth of the last iteration's
+    /// shift (0 below the floor) and climbs from 0 to the floor, or to a tenth of the last
+    /// nonzero shift, then by `shift_growth`. Two rungs are factorised at once
+    /// ([`SparseSystem::factor_spd_first_of`]: the second on an idle core, or only if the
+    /// first fails), so the shift taken — and the path — is the one trying them in turn gives.
     fn solve(
         &mut self,
         hessian: &mut FreeHessian,
@@ -227,25 +231,39 @@ impl Shift {
         factorizations: &mut usize,
     ) -> Result<Vec<f64>, SolveError> {
         let floor = params.shift_start * hessian.diag_max;
+        let next = |shift: f64| {
+            if shift == 0.0 {
+                floor.max(self.memory / params.shift_growth)
+            } else {
+                shift * params.shift_growth
+            }
+        };
         let mut shift = if self.prev / params.shift_growth >= floor {
             self.prev / params.shift_growth
         } else {
             0.0
         };
-        let mut attempts = 0;
+        // the rung of `shift` on the ladder: `params.max_shifts` rungs may fail
+        let mut rung = 0;
         let step = loop {
-            *factorizations += 1;
-            match hessian.solve_shifted(shift, rhs) {
-                Ok(p) => break p,
-                Err(SparseError::NotPositiveDefinite) if attempts < params.max_shifts => {
-                    attempts += 1;
-                    shift = if shift == 0.0 {
-                        floor.max(self.memory / params.shift_growth)
-                    } else {
-                        shift * params.shift_growth
-                    };
+            if rung < params.max_shifts {
+                let higher = next(shift);
+                match hessian.solve_shifted_first_of(shift, higher, rhs, factorizations) {
+                    Ok((p, second)) => {
+                        if second {
+                            shift = higher;
+                        }
+                        break p;
+                    }
+                    Err(SparseError::NotPositiveDefinite) if rung + 2 <= params.max_shifts => {
+                        shift = next(higher);
+                        rung += 2;
+                    }
+                    Err(e) => return Err(e.into()),
                 }
-                Err(e) => return Err(e.into()),
+            } else {
+                *factorizations += 1;
+                break hessian.solve_shifted(shift, rhs)?;
             }
         };
         self.prev = shift;
@@ -430,9 +448,10 @@ struct FreeHessian<'a> {
     /// the compressed pattern of the kept entries among the first `head_len` of the list
     head: Option<Pattern>,
     head_len: usize,
-    /// the compressed values of the Hessian, and of the shifted one (scratch)
+    /// the compressed values of the Hessian, and of two shifted ones (scratch)
     values: Vec<f64>,
     shifted: Vec<f64>,
+    shifted_higher: Vec<f64>,
     /// largest |diagonal entry| of the Hessian itself
     diag_max: f64,
     system: Option<SparseSystem>,
@@ -450,12 +469,14 @@ impl<'a> FreeHessian<'a> {
             head_len: 0,
             values: Vec::new(),
             shifted: Vec::new(),
+            shifted_higher: Vec::new(),
             diag_max: 0.0,
             system: None,
         }
     }
 
-    /// Take the model's entries `trip`.
+    /// Take the model's entries `trip`. Where they bring a new pattern, its symbolic analysis
+    /// runs on a second rayon worker while this thread sums the values.
     fn load(&mut self, trip: &[(usize, usize, f64)]) -> Result<(), SparseError> {
         let changed = trip
             .iter()
@@ -465,17 +486,19 @@ impl<'a> FreeHessian<'a> {
         if let Some(first) = changed.or(self.system.is_none().then_some(0)) {
             self.remap(trip, first)?;
         }
-        self.values.iter_mut().for_each(|v| *v = 0.0);
-        let mut diag_max = 0.0_f64;
-        for (t, &k) in trip.iter().zip(&self.slot) {
-            if k != usize::MAX {
-                self.values[k] += t.2;
-                if t.0 == t.1 {
-                    diag_max = diag_max.max(t.2.abs());
-                }
-            }
-        }
-        self.diag_max = diag_max;
+        let system = self
+            .system
+            .as_mut()
+            .expect("a system after the first remap");
+        let (values, slot) = (&mut self.values, &self.slot);
+        self.diag_max = if system.analysed() {
+            sum_into_slots(trip, slot, values)
+        } else {
+            let (analysed, diag_max) =
+                rayon::join(|| system.analyse(), || sum_into_slots(trip, slot, values));
+            analysed?;
+            diag_max
+        };
         Ok(())
     }
 
@@ -517,7 +540,7 @@ impl<'a> FreeHessian<'a> {
                 });
         }
         self.diagonal = slots.copied().collect();
-        self.values = vec![0.0; pattern.nnz()];
+        self.values.resize(pattern.nnz(), 0.0);
         match &mut self.system {
             Some(s) => s.set_pattern(pattern),
             None => {
@@ -529,13 +552,57 @@ impl<'a> FreeHessian<'a> {
 
     /// Solve (H + shift·I) p = rhs by Cholesky.
     fn solve_shifted(&mut self, shift: f64, rhs: &[f64]) -> Result<Vec<f64>, SparseError> {
-        self.shifted.clone_from(&self.values);
-        for &d in &self.diagonal {
-            self.shifted[d] += shift;
-        }
+        Self::shift_into(&self.values, &self.diagonal, shift, &mut self.shifted);
         let system = self.system.as_mut().ok_or(SparseError::NoFactor)?;
         system.solve_spd_compressed(&self.shifted, rhs)
     }
+
+    /// Solve (H + μI) p = rhs by Cholesky with the first of `shift`, `higher` for which H + μI
+    /// factors ([`SparseSystem::factor_spd_first_of`]); with p, whether it was `higher`.
+    fn solve_shifted_first_of(
+        &mut self,
+        shift: f64,
+        higher: f64,
+        rhs: &[f64],
+        factorizations: &mut usize,
+    ) -> Result<(Vec<f64>, bool), SparseError> {
+        Self::shift_into(&self.values, &self.diagonal, shift, &mut self.shifted);
+        Self::shift_into(
+            &self.values,
+            &self.diagonal,
+            higher,
+            &mut self.shifted_higher,
+        );
+        let system = self.system.as_mut().ok_or(SparseError::NoFactor)?;
+        let second =
+            system.factor_spd_first_of(&self.shifted, &self.shifted_higher, factorizations)?;
+        Ok((system.solve(rhs)?, second))
+    }
+
+    /// `values` with `shift` added at the `diagonal` slots, into `out`.
+    fn shift_into(values: &[f64], diagonal: &[usize], shift: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(values);
+        for &d in diagonal {
+            out[d] += shift;
+        }
+    }
+}
+
+/// The entries `trip` summed into the compressed `values` at their `slot`s (`usize::MAX`:
+/// dropped); returns the largest |diagonal entry|.
+fn sum_into_slots(trip: &[(usize, usize, f64)], slot: &[usize], values: &mut [f64]) -> f64 {
+    values.iter_mut().for_each(|v| *v = 0.0);
+    let mut diag_max = 0.0_f64;
+    for (t, &k) in trip.iter().zip(slot) {
+        if k != usize::MAX {
+            values[k] += t.2;
+            if t.0 == t.1 {
+                diag_max = diag_max.max(t.2.abs());
+            }
+        }
+    }
+    diag_max
 }
 
 /// Whether `x` is a strict local minimum of `model` over the free coordinates: its Hessian

@@ -9,10 +9,13 @@
 //! factorisation, so one factorisation serves several right-hand sides (the two solves of a
 //! bordered system), and it keeps the storage of the factor, of the assembled values and of
 //! faer's workspace from one factorisation to the next: nothing of the size of the factor is
-//! allocated (and page-faulted in) again. The factorisation runs on one thread (`Par::Seq`):
+//! allocated (and page-faulted in) again. Each factorisation runs on one thread (`Par::Seq`):
 //! on the shared 2-core machine faer's rayon factorisation cost 1.6× the CPU of the sequential
-//! one for the same result (docs/benchmarks.md). This module is the only one that calls faer's
-//! sparse API.
+//! one for the same result (docs/benchmarks.md). Where a caller has two matrices to try in turn
+//! (a shifted Newton step: H + μI, and the next shift if that is indefinite), they are
+//! factorised on two threads at once ([`SparseSystem::factor_spd_first_of`]), and a new
+//! pattern's symbolic analysis can be started ([`SparseSystem::analyse`]) while the caller
+//! assembles the values. This module is the only one that calls faer's sparse API.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -23,6 +26,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuRef, NumericLu, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The parallelism of the factorisations and solves (see the module doc).
 const PAR: Par = Par::Seq;
@@ -196,6 +200,8 @@ pub struct SparseSystem {
     values: Vec<f64>,
     llt: Option<SymbolicCholesky<usize>>,
     llt_values: Vec<f64>,
+    /// a second Cholesky factor's storage and workspace, for [`SparseSystem::factor_spd_first_of`]
+    spare: CholeskyStore,
     lu: Option<SymbolicLu<usize>>,
     lu_numeric: NumericLu<usize, f64>,
     held: Held,
@@ -217,6 +223,7 @@ impl SparseSystem {
             pattern,
             llt: None,
             llt_values: Vec::new(),
+            spare: CholeskyStore::default(),
             lu: None,
             lu_numeric: NumericLu::new(),
             held: Held::None,
@@ -237,7 +244,7 @@ impl SparseSystem {
         }
         self.held = Held::None;
         if !pattern.same_compressed(&self.pattern) {
-            self.values = vec![0.0; pattern.nnz()];
+            zeroed(&mut self.values, pattern.nnz());
             self.llt = None;
             self.lu = None;
         }
@@ -311,23 +318,91 @@ impl SparseSystem {
     fn factor_llt(&mut self) -> Result<(), SparseError> {
         self.symbolic_cholesky()?;
         let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
-        let req = sym
-            .factorize_numeric_llt_scratch::<f64>(PAR, Default::default())
-            .or(sym.solve_in_place_scratch::<f64>(1, PAR));
-        self.reserve(req)?;
-        let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
-        sym.factorize_numeric_llt(
-            &mut self.llt_values,
-            SparseColMatRef::new(self.pattern.symbolic.as_ref(), &self.values),
-            Side::Lower,
-            LltRegularization::default(),
-            PAR,
-            MemStack::new(&mut self.workspace),
-            Default::default(),
-        )
-        .map_err(|_| SparseError::NotPositiveDefinite)?;
+        let a = SparseColMatRef::new(self.pattern.symbolic.as_ref(), &self.values);
+        factor_llt_into(sym, a, &mut self.llt_values, &mut self.workspace)?;
         self.held = Held::Llt;
         Ok(())
+    }
+
+    /// Cholesky of the first of two matrices (compressed values, as for
+    /// [`SparseSystem::solve_spd_compressed`]) that is positive definite, held for
+    /// [`SparseSystem::solve`]: `Ok(false)` if `first` factored, `Ok(true)` if `second` did.
+    /// `second` is factorised on another rayon worker while `first` is, where one is free to
+    /// take it, and otherwise only if `first` failed (never when `first` has already
+    /// factored), so a caller that would try `second` after `first` fails gets the same factor
+    /// as trying them in turn, in the wall time of one factorisation where a core is idle.
+    /// `factorizations` counts those run (1 or 2).
+    pub fn factor_spd_first_of(
+        &mut self,
+        first: &[f64],
+        second: &[f64],
+        factorizations: &mut usize,
+    ) -> Result<bool, SparseError> {
+        self.held = Held::None;
+        for v in [first, second] {
+            if v.len() != self.values.len() {
+                return Err(SparseError::Length {
+                    expected: self.values.len(),
+                    got: v.len(),
+                });
+            }
+        }
+        self.symbolic_cholesky()?;
+        let sym = self.llt.as_ref().expect("symbolic Cholesky just built");
+        let pattern = self.pattern.symbolic.as_ref();
+        let first_done = AtomicBool::new(false);
+        let (main, spare) = (&mut self.llt_values, &mut self.spare);
+        let (a, b) = rayon::join(
+            || {
+                let r = check_finite(first).and_then(|()| {
+                    factor_llt_into(
+                        sym,
+                        SparseColMatRef::new(pattern, first),
+                        main,
+                        &mut self.workspace,
+                    )
+                });
+                first_done.store(r.is_ok(), Ordering::Release);
+                r
+            },
+            || {
+                if first_done.load(Ordering::Acquire) {
+                    return None;
+                }
+                Some(check_finite(second).and_then(|()| {
+                    factor_llt_into(
+                        sym,
+                        SparseColMatRef::new(pattern, second),
+                        &mut spare.values,
+                        &mut spare.workspace,
+                    )
+                }))
+            },
+        );
+        *factorizations += 1 + usize::from(b.is_some());
+        match (a, b) {
+            (Ok(()), _) => {}
+            (Err(SparseError::NotPositiveDefinite), Some(b)) => {
+                b?;
+                std::mem::swap(&mut self.llt_values, &mut self.spare.values);
+                self.held = Held::Llt;
+                return Ok(true);
+            }
+            (Err(e), _) => return Err(e),
+        }
+        self.held = Held::Llt;
+        Ok(false)
+    }
+
+    /// Whether the pattern's symbolic Cholesky analysis is built.
+    pub fn analysed(&self) -> bool {
+        self.llt.is_some()
+    }
+
+    /// Build the pattern's symbolic Cholesky analysis now, rather than at the next
+    /// factorisation (so that a caller can overlap it with other work).
+    pub fn analyse(&mut self) -> Result<(), SparseError> {
+        self.symbolic_cholesky()
     }
 
     /// The symbolic Cholesky (and LDLᵀ) analysis of the pattern, built once.
@@ -340,7 +415,8 @@ impl SparseSystem {
                 Default::default(),
             )
             .map_err(|e| SparseError::Pattern(format!("{e:?}")))?;
-            self.llt_values = vec![0.0; sym.len_val()];
+            zeroed(&mut self.llt_values, sym.len_val());
+            zeroed(&mut self.spare.values, sym.len_val());
             self.llt = Some(sym);
         }
         Ok(())
@@ -490,6 +566,64 @@ impl SparseSystem {
     }
 }
 
+/// The storage of a second numeric Cholesky factor: its values and faer's workspace.
+struct CholeskyStore {
+    values: Vec<f64>,
+    workspace: MemBuffer,
+}
+
+impl Default for CholeskyStore {
+    fn default() -> Self {
+        CholeskyStore {
+            values: Vec::new(),
+            workspace: MemBuffer::new(StackReq::empty()),
+        }
+    }
+}
+
+/// Cholesky of `a` (lower triangle read) with the symbolic analysis `sym`, into `l_values`,
+/// growing `workspace` as needed.
+fn factor_llt_into(
+    sym: &SymbolicCholesky<usize>,
+    a: SparseColMatRef<'_, usize, f64>,
+    l_values: &mut [f64],
+    workspace: &mut MemBuffer,
+) -> Result<(), SparseError> {
+    let req = sym
+        .factorize_numeric_llt_scratch::<f64>(PAR, Default::default())
+        .or(sym.solve_in_place_scratch::<f64>(1, PAR));
+    if !MemStack::new(workspace).can_hold(req) {
+        *workspace = MemBuffer::try_new(req).map_err(|e| SparseError::Memory(format!("{e:?}")))?;
+    }
+    sym.factorize_numeric_llt(
+        l_values,
+        a,
+        Side::Lower,
+        LltRegularization::default(),
+        PAR,
+        MemStack::new(workspace),
+        Default::default(),
+    )
+    .map_err(|_| SparseError::NotPositiveDefinite)?;
+    Ok(())
+}
+
+/// `v` as `len` zeros, in the storage it has (a factor's values are tens of megabytes, and a
+/// new allocation is faulted in page by page).
+fn zeroed(v: &mut Vec<f64>, len: usize) {
+    v.clear();
+    v.resize(len, 0.0);
+}
+
+/// `NonFinite` unless every value is finite.
+fn check_finite(values: &[f64]) -> Result<(), SparseError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(SparseError::NonFinite)
+    }
+}
+
 fn check_positions(n: usize, positions: &[(usize, usize)]) -> Result<(), SparseError> {
     match positions.iter().find(|&&(r, c)| r >= n || c >= n) {
         Some(p) => Err(SparseError::Pattern(format!(
@@ -635,6 +769,65 @@ mod tests {
         assert_eq!(sys.solve_spd_compressed(&compressed, &b).unwrap(), x);
         assert!(matches!(
             sys.solve_spd_compressed(&val, &b),
+            Err(SparseError::Length { .. })
+        ));
+    }
+
+    #[test]
+    fn the_first_of_two_matrices_that_factors_is_held_and_solved_with() {
+        let n = 100;
+        let (pos, val) = laplacian(n);
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let mut sys = SparseSystem::new(n, &pos).unwrap();
+        // the Laplacian's eigenvalues lie in (0, 4): shifted by −3 it is indefinite
+        let compressed = |shift: f64| {
+            let mut c = vec![0.0; sys.pattern().nnz()];
+            let mut shifted = vec![false; n];
+            for (&s, (&(i, j), v)) in sys.pattern().slots().iter().zip(pos.iter().zip(&val)) {
+                c[s] += v;
+                if i == j && !shifted[i] {
+                    c[s] += shift;
+                    shifted[i] = true;
+                }
+            }
+            c
+        };
+        let (spd, indefinite) = (compressed(0.0), compressed(-3.0));
+        let alone = sys.solve_spd_compressed(&spd, &b).unwrap();
+        // the second factors where the first does not: the same factor as taking it alone
+        let mut count = 0;
+        assert_eq!(
+            sys.factor_spd_first_of(&indefinite, &spd, &mut count),
+            Ok(true)
+        );
+        assert_eq!(count, 2);
+        assert_eq!(sys.solve(&b).unwrap(), alone);
+        // the first factors: it is held, and on one thread the second is never tried
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let mut count = 0;
+        let first = one.install(|| sys.factor_spd_first_of(&spd, &indefinite, &mut count));
+        assert_eq!((first, count), (Ok(false), 1));
+        assert_eq!(sys.solve(&b).unwrap(), alone);
+        // neither factors: nothing is held
+        let mut count = 0;
+        assert_eq!(
+            sys.factor_spd_first_of(&indefinite, &indefinite, &mut count),
+            Err(SparseError::NotPositiveDefinite)
+        );
+        assert_eq!(count, 2);
+        assert_eq!(sys.solve(&b), Err(SparseError::NoFactor));
+        // a non-finite first matrix is an error, not a reason to take the second
+        let mut nan = spd.clone();
+        nan[0] = f64::NAN;
+        assert_eq!(
+            sys.factor_spd_first_of(&nan, &spd, &mut count),
+            Err(SparseError::NonFinite)
+        );
+        assert!(matches!(
+            sys.factor_spd_first_of(&spd, &val, &mut count),
             Err(SparseError::Length { .. })
         ));
     }
