@@ -109,6 +109,8 @@ pub fn minimize_newton<E: EnergyTerm + ?Sized>(
     };
     let solved = newton::solve(&mut problem, x, &newton);
     let d = &mut problem.d;
+    // the last evaluation may have been of a trial not taken: leave the model current at x
+    d.ev.model.prepare(x);
     match solved {
         Ok(info) => Ok(Info {
             energy: d.energy,
@@ -163,6 +165,10 @@ impl<E: EnergyTerm + ?Sized> NewtonProblem for Shifted<'_, E> {
         let d = &mut self.d;
         d.ev.cost.iterations += 1;
         self.trip.clear();
+        // the last evaluation may have been of a trial not taken (an expansion that raised
+        // the energy), and the neighbour list rebuilt there need not hold the pairs in reach
+        // at x
+        d.ev.model.prepare(x);
         d.ev.model.hessian_lower(x, &mut self.trip);
         d.ev.cost.hessian_evaluations += 1;
         self.hessian.load(&self.trip)?;
