@@ -300,11 +300,7 @@ impl SparseSystem {
 
     /// Grow (never shrink) the workspace to hold `req`.
     fn reserve(&mut self, req: StackReq) -> Result<(), SparseError> {
-        if !MemStack::new(&mut self.workspace).can_hold(req) {
-            self.workspace =
-                MemBuffer::try_new(req).map_err(|e| SparseError::Memory(format!("{e:?}")))?;
-        }
-        Ok(())
+        reserve(&mut self.workspace, req)
     }
 
     /// Factorise a symmetric positive-definite matrix by Cholesky (lower triangle read); the
@@ -380,18 +376,17 @@ impl SparseSystem {
             },
         );
         *factorizations += 1 + usize::from(b.is_some());
-        match (a, b) {
-            (Ok(()), _) => {}
+        let second = match (a, b) {
+            (Ok(()), _) => false,
             (Err(SparseError::NotPositiveDefinite), Some(b)) => {
                 b?;
                 std::mem::swap(&mut self.llt_values, &mut self.spare.values);
-                self.held = Held::Llt;
-                return Ok(true);
+                true
             }
             (Err(e), _) => return Err(e),
-        }
+        };
         self.held = Held::Llt;
-        Ok(false)
+        Ok(second)
     }
 
     /// Whether the pattern's symbolic Cholesky analysis is built.
@@ -592,9 +587,7 @@ fn factor_llt_into(
     let req = sym
         .factorize_numeric_llt_scratch::<f64>(PAR, Default::default())
         .or(sym.solve_in_place_scratch::<f64>(1, PAR));
-    if !MemStack::new(workspace).can_hold(req) {
-        *workspace = MemBuffer::try_new(req).map_err(|e| SparseError::Memory(format!("{e:?}")))?;
-    }
+    reserve(workspace, req)?;
     sym.factorize_numeric_llt(
         l_values,
         a,
@@ -605,6 +598,14 @@ fn factor_llt_into(
         Default::default(),
     )
     .map_err(|_| SparseError::NotPositiveDefinite)?;
+    Ok(())
+}
+
+/// Grow (never shrink) `workspace` to hold `req`.
+fn reserve(workspace: &mut MemBuffer, req: StackReq) -> Result<(), SparseError> {
+    if !MemStack::new(workspace).can_hold(req) {
+        *workspace = MemBuffer::try_new(req).map_err(|e| SparseError::Memory(format!("{e:?}")))?;
+    }
     Ok(())
 }
 
